@@ -1,0 +1,360 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkARMeshKernels.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkArrayDispatch.h"
+#include "vtkCellArray.h"
+#include "vtkCellType.h"
+#include "vtkCellTypes.h"
+#include "vtkDataArray.h"
+#include "vtkDataArrayRange.h"
+#include "vtkDoubleArray.h"
+#include "vtkMultiProcessController.h"
+#include "vtkPoints.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+namespace
+{
+std::array<bool, 256> MakeVolumeCellTable()
+{
+  std::array<bool, 256> table{};
+  for (int t = 0; t < 256; ++t)
+  {
+    const auto type = static_cast<unsigned char>(t);
+    table[t] = t != VTK_EMPTY_CELL && vtkCellTypes::IsLinear(type) &&
+      vtkCellTypes::GetDimension(type) == 3;
+  }
+  return table;
+}
+const std::array<bool, 256> VolumeCells = MakeVolumeCellTable();
+}
+
+const bool* vtkARMeshKernels::MeshView::VolumeCellTable = VolumeCells.data();
+
+//------------------------------------------------------------------------------
+bool vtkARMeshKernels::MeshView::Build(vtkUnstructuredGrid* grid, std::string& error)
+{
+  *this = MeshView();
+  if (!grid)
+  {
+    error = "there is no input unstructured grid";
+    return false;
+  }
+  this->NumberOfPoints = grid->GetPoints() ? grid->GetNumberOfPoints() : 0;
+  this->NumberOfCells = grid->GetCells() ? grid->GetNumberOfCells() : 0;
+  if (this->NumberOfPoints == 0 || this->NumberOfCells == 0)
+  {
+    // An empty partition is legal under MPI; callers decide collectively.
+    this->NumberOfCells = 0;
+    return true;
+  }
+
+  vtkDataArray* pts = grid->GetPoints()->GetData();
+  if (auto* d = vtkDoubleArray::FastDownCast(pts))
+  {
+    this->X = d->GetPointer(0);
+  }
+  else
+  {
+    this->XStore.resize(3 * static_cast<size_t>(this->NumberOfPoints));
+    const auto range = vtk::DataArrayValueRange<3>(pts);
+    double* dst = this->XStore.data();
+    vtkSMPTools::For(0, static_cast<vtkIdType>(range.size()), [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        dst[i] = range[i];
+      }
+    });
+    this->X = this->XStore.data();
+  }
+
+  vtkCellArray* cells = grid->GetCells();
+  if (cells->IsStorage64Bit())
+  {
+    this->Offsets = cells->GetOffsetsArray64()->GetPointer(0);
+    this->Connectivity = cells->GetConnectivityArray64()->GetPointer(0);
+  }
+  else
+  {
+    auto* off = cells->GetOffsetsArray32();
+    auto* conn = cells->GetConnectivityArray32();
+    this->OffsetStore.assign(off->GetPointer(0), off->GetPointer(0) + off->GetNumberOfValues());
+    this->ConnectivityStore.assign(
+      conn->GetPointer(0), conn->GetPointer(0) + conn->GetNumberOfValues());
+    this->Offsets = this->OffsetStore.data();
+    this->Connectivity = this->ConnectivityStore.data();
+  }
+  this->Types = grid->GetCellTypesArray()->GetPointer(0);
+  vtkUnsignedCharArray* cg = grid->GetCellGhostArray();
+  this->CellGhosts = cg ? cg->GetPointer(0) : nullptr;
+  vtkUnsignedCharArray* pg = grid->GetPointGhostArray();
+  this->PointGhosts = pg ? pg->GetPointer(0) : nullptr;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+vtkARMeshKernels::CellCensus vtkARMeshKernels::Census(const MeshView& mesh)
+{
+  CellCensus census;
+  for (vtkIdType c = 0; c < mesh.NumberOfCells; ++c)
+  {
+    const unsigned char t = mesh.Types[c];
+    if (mesh.IsVolumeCell(c))
+    {
+      if (mesh.CellSize(c) > MaxCellPoints)
+      {
+        ++census.TooManyPoints;
+      }
+      else
+      {
+        ++census.VolumeCells;
+      }
+    }
+    else if (vtkCellTypes::GetDimension(t) < 3)
+    {
+      ++census.LowerDimensional;
+    }
+    else
+    {
+      ++census.NonLinear;
+    }
+  }
+  return census;
+}
+
+//------------------------------------------------------------------------------
+bool vtkARMeshKernels::GradientOperator(
+  const MeshView& mesh, vtkIdType c, double W[][3], int& n, double& measure)
+{
+  n = mesh.CellSize(c);
+  measure = 0.0;
+  if (n < 4 || n > MaxCellPoints)
+  {
+    return false;
+  }
+  const vtkIdType* ids = mesh.CellPoints(c);
+  if (n == 4)
+  {
+    // Tetrahedron: the exact P1 gradient from the inverse Jacobian, whose
+    // rows are the edges x_a - x_0 (a = 1..3).
+    const double* x0 = mesh.X + 3 * ids[0];
+    Eigen::Matrix3d J;
+    for (int a = 1; a < 4; ++a)
+    {
+      const double* x = mesh.X + 3 * ids[a];
+      J.row(a - 1) << x[0] - x0[0], x[1] - x0[1], x[2] - x0[2];
+    }
+    const double det = J.determinant();
+    const double scale = J.squaredNorm();
+    if (!(std::abs(det) > 1e-9 * scale * std::sqrt(scale)))
+    {
+      return false;
+    }
+    const Eigen::Matrix3d Jinv = J.inverse();
+    for (int k = 0; k < 3; ++k)
+    {
+      W[0][k] = 0.0;
+    }
+    for (int a = 1; a < 4; ++a)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        W[a][k] = Jinv(k, a - 1);
+        W[0][k] -= W[a][k];
+      }
+    }
+    measure = std::abs(det) / 6.0;
+    return true;
+  }
+  double xc[3] = { 0.0, 0.0, 0.0 };
+  for (int a = 0; a < n; ++a)
+  {
+    const double* x = mesh.X + 3 * ids[a];
+    xc[0] += x[0];
+    xc[1] += x[1];
+    xc[2] += x[2];
+  }
+  const double inv = 1.0 / n;
+  xc[0] *= inv;
+  xc[1] *= inv;
+  xc[2] *= inv;
+
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+  double scale = 0.0;
+  for (int a = 0; a < n; ++a)
+  {
+    const double* x = mesh.X + 3 * ids[a];
+    W[a][0] = x[0] - xc[0];
+    W[a][1] = x[1] - xc[1];
+    W[a][2] = x[2] - xc[2];
+    const Eigen::Map<const Eigen::Vector3d> d(W[a]);
+    M.noalias() += d * d.transpose();
+    scale += d.squaredNorm();
+  }
+  const double det = M.determinant();
+  // Relative test: det(M) ~ (trace/3)^3 for a well-shaped cell.
+  const double ref = scale * scale * scale / 27.0;
+  if (!(det > 1e-12 * ref))
+  {
+    return false;
+  }
+  const Eigen::Matrix3d Minv = M.inverse();
+  for (int a = 0; a < n; ++a)
+  {
+    Eigen::Map<Eigen::Vector3d> w(W[a]);
+    const Eigen::Vector3d d = w;
+    w.noalias() = Minv * d;
+  }
+  measure = std::sqrt(det) / 3.0;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkARMeshKernels::AgreeToProceed(vtkAlgorithm* self, const std::string& problem,
+  const MeshView& mesh, const CellCensus& census, const char* need)
+{
+  if (census.NonLinear > 0)
+  {
+    vtkWarningWithObjectMacro(self, << census.NonLinear
+                    << " non-linear (quadratic or higher-order) cells are ignored; "
+                       "apply Tessellate first to include them.");
+  }
+  if (census.TooManyPoints > 0)
+  {
+    vtkWarningWithObjectMacro(self, << census.TooManyPoints << " polyhedra with more than "
+                    << MaxCellPoints << " points are ignored.");
+  }
+  // [0] ranks with a problem, [1] linear 3-D cells, [2] cells,
+  // [3] ranks holding cells without ghost cells, [4] ranks holding cells.
+  const bool hasCells = mesh.NumberOfCells > 0;
+  double status[5] = { problem.empty() ? 0.0 : 1.0, static_cast<double>(census.VolumeCells),
+    static_cast<double>(mesh.NumberOfCells), (hasCells && !mesh.CellGhosts) ? 1.0 : 0.0,
+    hasCells ? 1.0 : 0.0 };
+  AllReduceSum(status, 5);
+  std::string message = problem;
+  if (status[0] == 0.0 && status[2] == 0.0)
+  {
+    message = "The input mesh is empty. ";
+  }
+  else if (status[0] == 0.0 && status[1] == 0.0)
+  {
+    message = "The input has no linear 3-D cells (" + std::to_string(census.LowerDimensional) +
+      " vertices, lines or 2-D cells here): " + need +
+      " needs a volume mesh of tetrahedra, pyramids, wedges, hexahedra or polyhedra. ";
+  }
+  if (!message.empty())
+  {
+    vtkErrorWithObjectMacro(self, << message << "The output is the input, unchanged.");
+    return false;
+  }
+  if (status[0] > 0.0)
+  {
+    return false; // another rank reported its problem
+  }
+  if (status[4] > 1.0 && status[3] > 0.0)
+  {
+    vtkWarningWithObjectMacro(self,
+      "The mesh is distributed without ghost cells: values next to partition boundaries can "
+      "differ from a serial run. Apply 'Ghost Cells Generator' upstream.");
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+int vtkARMeshKernels::NumberOfRanks()
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  return ctrl ? ctrl->GetNumberOfProcesses() : 1;
+}
+
+void vtkARMeshKernels::AllReduceMax(double* values, int n)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (ctrl && ctrl->GetNumberOfProcesses() > 1 && n > 0)
+  {
+    std::vector<double> local(values, values + n);
+    ctrl->AllReduce(local.data(), values, n, vtkCommunicator::MAX_OP);
+  }
+}
+
+void vtkARMeshKernels::AllReduceSum(double* values, int n)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (ctrl && ctrl->GetNumberOfProcesses() > 1 && n > 0)
+  {
+    std::vector<double> local(values, values + n);
+    ctrl->AllReduce(local.data(), values, n, vtkCommunicator::SUM_OP);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkARMeshKernels::EnsureThreadedBackend()
+{
+  static std::atomic<bool> done(false);
+  if (done.exchange(true))
+  {
+    return;
+  }
+  const char* env = std::getenv("VTK_SMP_BACKEND_IN_USE");
+  if ((env == nullptr || *env == '\0') && std::strcmp(vtkSMPTools::GetBackend(), "Sequential") == 0)
+  {
+    vtkSMPTools::SetBackend("STDThread");
+  }
+}
+
+bool vtkARMeshKernels::Aborted(vtkAlgorithm* self)
+{
+  return self != nullptr && self->GetAbortExecute() != 0;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+struct PackWorker
+{
+  template <typename ArrayT>
+  void operator()(ArrayT* array, double* dest, int stride, int offset, vtkIdType& bad)
+  {
+    const auto tuples = vtk::DataArrayTupleRange(array);
+    const int nc = array->GetNumberOfComponents();
+    std::atomic<vtkIdType> firstBad(-1);
+    vtkSMPTools::For(0, static_cast<vtkIdType>(tuples.size()), [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        const auto t = tuples[i];
+        double* d = dest + static_cast<size_t>(i) * stride + offset;
+        for (int k = 0; k < nc; ++k)
+        {
+          const double v = static_cast<double>(t[k]);
+          d[k] = v;
+          if (!std::isfinite(v))
+          {
+            vtkIdType expected = -1;
+            firstBad.compare_exchange_strong(expected, i);
+          }
+        }
+      }
+    });
+    bad = firstBad;
+  }
+};
+}
+
+vtkIdType vtkARMeshKernels::PackComponents(vtkDataArray* array, double* dest, int stride, int offset)
+{
+  vtkIdType bad = -1;
+  PackWorker worker;
+  if (!vtkArrayDispatch::Dispatch::Execute(array, worker, dest, stride, offset, bad))
+  {
+    worker(array, dest, stride, offset, bad);
+  }
+  return bad;
+}

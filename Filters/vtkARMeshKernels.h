@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class vtkARMeshKernels
+ * @brief Private helpers shared by the AdaptiveRedistribution filters.
+ *
+ * Not part of the public API. Gives the per-cell loops of the sensors a flat,
+ * read-only view of a vtkUnstructuredGrid (points as doubles, 64-bit offsets
+ * and connectivity, cell types, ghost flags), the least-squares gradient
+ * operator of any linear 3-D cell, a threaded cell-to-point averaging, MPI
+ * reductions over the global controller, and input validation.
+ */
+#ifndef vtkARMeshKernels_h
+#define vtkARMeshKernels_h
+
+#include "vtkDataSetAttributes.h" // for vtkDataSetAttributes::DUPLICATECELL
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
+#include "vtkType.h"
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+class vtkAlgorithm;
+class vtkDataArray;
+class vtkDataSetAttributes;
+class vtkUnstructuredGrid;
+
+class vtkARMeshKernels
+{
+public:
+  /// Largest number of points of a cell the gradient operator accepts.
+  static constexpr int MaxCellPoints = 64;
+
+  /// Flat read-only view of an unstructured grid.
+  struct MeshView
+  {
+    vtkIdType NumberOfPoints = 0;
+    vtkIdType NumberOfCells = 0;
+    const double* X = nullptr;
+    const vtkIdType* Offsets = nullptr;
+    const vtkIdType* Connectivity = nullptr;
+    const unsigned char* Types = nullptr;
+    const unsigned char* CellGhosts = nullptr;
+    const unsigned char* PointGhosts = nullptr;
+
+    /// Fills the view; copies only what is not already stored as doubles and
+    /// 64-bit ids. Returns false (with a message) if there is nothing to view.
+    bool Build(vtkUnstructuredGrid* grid, std::string& error);
+
+    /// A linear 3-D cell the gradient operator handles.
+    bool IsVolumeCell(vtkIdType c) const { return VolumeCellTable[this->Types[c]]; }
+    /// A cell this rank owns (not a ghost copy of another rank's cell).
+    bool IsOwnedCell(vtkIdType c) const
+    {
+      return !this->CellGhosts ||
+        !(this->CellGhosts[c] & (vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::HIDDENCELL));
+    }
+    bool IsOwnedPoint(vtkIdType p) const
+    {
+      return !this->PointGhosts || !(this->PointGhosts[p] & vtkDataSetAttributes::DUPLICATEPOINT);
+    }
+    int CellSize(vtkIdType c) const { return static_cast<int>(this->Offsets[c + 1] - this->Offsets[c]); }
+    const vtkIdType* CellPoints(vtkIdType c) const { return this->Connectivity + this->Offsets[c]; }
+
+  private:
+    std::vector<double> XStore;
+    std::vector<vtkIdType> OffsetStore, ConnectivityStore;
+    static const bool* VolumeCellTable;
+  };
+
+  /// What a mesh is made of, for validation messages.
+  struct CellCensus
+  {
+    vtkIdType VolumeCells = 0;     ///< linear 3-D cells (tet, pyramid, wedge, hex, voxel, prisms, polyhedra)
+    vtkIdType LowerDimensional = 0; ///< vertices, lines, triangles, quads, polygons ...
+    vtkIdType NonLinear = 0;       ///< quadratic and higher-order cells
+    vtkIdType TooManyPoints = 0;   ///< polyhedra with more than MaxCellPoints points
+  };
+  static CellCensus Census(const MeshView& mesh);
+
+  /**
+   * Least-squares gradient operator of cell c: for any field f given at the
+   * cell's points, grad f = sum_a W[a] f_a exactly for linear f (for a
+   * tetrahedron this is the exact P1 gradient). W[a] = M^-1 (x_a - x_c), with
+   * M = sum_a (x_a - x_c)(x_a - x_c)^T and x_c the vertex centroid.
+   *
+   * `measure` = sqrt(det M) / 3, which equals the volume of a tetrahedron and
+   * is within 6% of the volume of a cube; it weights cell-to-point averages.
+   * Returns false for a degenerate (flat) cell.
+   */
+  static bool GradientOperator(const MeshView& mesh, vtkIdType c, double W[][3], int& n, double& measure);
+
+  /**
+   * Average of per-cell values at the points: each cell for which
+   * `cellFn(c, values, weight)` returns true adds weight*values to its points.
+   * Ghost cells take part (they complete the stencils of partition-boundary
+   * points). Points no cell reaches get 0. `out` gets npts*nComp values.
+   * Returns false if aborted.
+   */
+  template <typename CellFn>
+  static bool CellsToPoints(const MeshView& mesh, int nComp, CellFn&& cellFn,
+    std::vector<double>& out, vtkAlgorithm* abortSource);
+
+  /**
+   * Collective check before any computation: every rank calls it once with
+   * its own validation result (`problem` empty when fine). Reports the
+   * problem, or an empty mesh / a mesh with no 3-D cells over all ranks, as an
+   * error of `self`, and warns when a distributed mesh has no ghost cells.
+   * Returns true when every rank can go on. `need` names what the filter
+   * computes, for the messages.
+   */
+  static bool AgreeToProceed(vtkAlgorithm* self, const std::string& problem,
+    const MeshView& mesh, const CellCensus& census, const char* need);
+
+  /// MPI reductions over the global controller (no-ops in serial).
+  static void AllReduceMax(double* values, int n);
+  static void AllReduceSum(double* values, int n);
+  static int NumberOfRanks();
+
+  /// Selects the STDThread SMP backend when VTK would otherwise run
+  /// sequentially and the user has not chosen a backend.
+  static void EnsureThreadedBackend();
+
+  /// Abort check that is cheap and safe to call from worker threads.
+  static bool Aborted(vtkAlgorithm* self);
+
+  /// Copies the components of `array` (point or cell data) into `dest` with
+  /// stride `stride` starting at `offset`: dest[i*stride + offset + k].
+  /// Returns the first tuple holding NaN or Inf, or -1.
+  static vtkIdType PackComponents(vtkDataArray* array, double* dest, int stride, int offset);
+};
+
+//------------------------------------------------------------------------------
+template <typename CellFn>
+bool vtkARMeshKernels::CellsToPoints(const MeshView& mesh, int nComp, CellFn&& cellFn,
+  std::vector<double>& out, vtkAlgorithm* abortSource)
+{
+  const vtkIdType npts = mesh.NumberOfPoints;
+  const int stride = nComp + 1;
+  vtkSMPThreadLocal<std::vector<double>> local;
+  std::atomic<bool> aborted(false);
+  vtkSMPTools::For(0, mesh.NumberOfCells, [&](vtkIdType begin, vtkIdType end) {
+    if (aborted || Aborted(abortSource))
+    {
+      aborted = true;
+      return;
+    }
+    std::vector<double>& acc = local.Local();
+    if (acc.empty())
+    {
+      acc.assign(static_cast<size_t>(npts) * stride, 0.0);
+    }
+    double values[16];
+    std::vector<double> big(nComp > 16 ? nComp : 0);
+    double* v = nComp > 16 ? big.data() : values;
+    for (vtkIdType c = begin; c < end; ++c)
+    {
+      double w = 0.0;
+      if (!cellFn(c, v, w) || !(w > 0.0))
+      {
+        continue;
+      }
+      const vtkIdType* ids = mesh.CellPoints(c);
+      const int n = mesh.CellSize(c);
+      for (int a = 0; a < n; ++a)
+      {
+        double* dst = &acc[static_cast<size_t>(ids[a]) * stride];
+        for (int k = 0; k < nComp; ++k)
+        {
+          dst[k] += w * v[k];
+        }
+        dst[nComp] += w;
+      }
+    }
+  });
+  if (aborted)
+  {
+    return false;
+  }
+  std::vector<const double*> parts;
+  for (auto it = local.begin(); it != local.end(); ++it)
+  {
+    if (!it->empty())
+    {
+      parts.push_back(it->data());
+    }
+  }
+  out.assign(static_cast<size_t>(npts) * nComp, 0.0);
+  vtkSMPTools::For(0, npts, [&](vtkIdType begin, vtkIdType end) {
+    std::vector<double> sum(stride);
+    for (vtkIdType p = begin; p < end; ++p)
+    {
+      std::fill(sum.begin(), sum.end(), 0.0);
+      for (const double* part : parts)
+      {
+        const double* src = part + static_cast<size_t>(p) * stride;
+        for (int k = 0; k < stride; ++k)
+        {
+          sum[k] += src[k];
+        }
+      }
+      if (sum[nComp] > 0.0)
+      {
+        for (int k = 0; k < nComp; ++k)
+        {
+          out[static_cast<size_t>(p) * nComp + k] = sum[k] / sum[nComp];
+        }
+      }
+    }
+  });
+  return true;
+}
+
+#endif
+// VTK-HeaderTest-Exclude: vtkARMeshKernels.h

@@ -1,0 +1,388 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkShockSensor.h"
+
+#include "vtkARMeshKernels.h"
+#include "vtkCellData.h"
+#include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+vtkStandardNewMacro(vtkShockSensor);
+
+namespace
+{
+// Column layout of the 5-column state table: a 3-vector then two scalars.
+struct Slot
+{
+  int Index;          // SetInputArrayToProcess index
+  const char* Role;   // for messages
+  int Components;     // 3 or 1
+  int Column;         // first column in the table
+  bool MustBePositive;
+};
+
+const char* ArrayName(vtkAlgorithm* self, int idx)
+{
+  vtkInformation* info = self->GetInputArrayInformation(idx);
+  return (info && info->Has(vtkDataObject::FIELD_NAME())) ? info->Get(vtkDataObject::FIELD_NAME())
+                                                          : "(none)";
+}
+}
+
+//------------------------------------------------------------------------------
+vtkShockSensor::vtkShockSensor()
+{
+  // Defaults for pvpython/C++ users: point arrays named as OpenFOAM writes them.
+  const char* names[6] = { "U", "p", "rho", "T", "rhoU", "rhoE" };
+  for (int i = 0; i < 6; ++i)
+  {
+    this->SetInputArrayToProcess(i, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, names[i]);
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkShockSensor::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  const int ghosts = outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS());
+  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));
+  // One more level: point gradients at partition boundaries need the neighbours.
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), ghosts + 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkShockSensor::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
+  output->ShallowCopy(input);
+  vtkARMeshKernels::EnsureThreadedBackend();
+
+  std::ostringstream problem;
+  vtkARMeshKernels::MeshView mesh;
+  std::string meshError;
+  if (!mesh.Build(input, meshError))
+  {
+    problem << meshError << ". ";
+  }
+  const vtkIdType npts = mesh.NumberOfPoints;
+  const vtkIdType ncells = mesh.NumberOfCells;
+
+  if (!(this->Gamma > 1.0))
+  {
+    problem << "Gamma must be greater than 1 (it is " << this->Gamma << "). ";
+  }
+  if (this->VariableSet == VELOCITY_PRESSURE_TEMPERATURE && !(this->GasConstant > 0.0))
+  {
+    problem << "GasConstant must be positive (it is " << this->GasConstant << "). ";
+  }
+
+  Slot slots[3];
+  switch (this->VariableSet)
+  {
+    case VELOCITY_PRESSURE_TEMPERATURE:
+      slots[0] = { VELOCITY, "Velocity", 3, 0, false };
+      slots[1] = { PRESSURE, "Pressure", 1, 3, true };
+      slots[2] = { TEMPERATURE, "Temperature", 1, 4, true };
+      break;
+    case CONSERVED:
+      slots[0] = { MOMENTUM, "Momentum", 3, 0, false };
+      slots[1] = { DENSITY, "Density", 1, 3, true };
+      slots[2] = { TOTAL_ENERGY, "TotalEnergy", 1, 4, false };
+      break;
+    default:
+      slots[0] = { VELOCITY, "Velocity", 3, 0, false };
+      slots[1] = { PRESSURE, "Pressure", 1, 3, true };
+      slots[2] = { DENSITY, "Density", 1, 4, true };
+  }
+
+  // The raw state, 5 columns at the points; cell arrays go through a cell
+  // table and are averaged to the points.
+  constexpr int NC = 5;
+  std::vector<double> state(static_cast<size_t>(npts) * NC, 0.0);
+  std::vector<double> cellState;
+  std::vector<int> cellColumns;
+  if (ncells > 0)
+  {
+    for (const Slot& s : slots)
+    {
+      int association = -1;
+      vtkDataArray* array = this->GetInputArrayToProcess(s.Index, input, association);
+      if (!array)
+      {
+        problem << "The " << s.Role << " array '" << ArrayName(this, s.Index)
+                << "' is not a point or cell array of the input. ";
+        continue;
+      }
+      if (array->GetNumberOfComponents() != s.Components)
+      {
+        problem << "The " << s.Role << " array '" << array->GetName() << "' has "
+                << array->GetNumberOfComponents() << " components; it needs " << s.Components
+                << ". ";
+        continue;
+      }
+      const bool onPoints = association == vtkDataObject::FIELD_ASSOCIATION_POINTS;
+      double* table = state.data();
+      int column = s.Column;
+      int stride = NC;
+      if (!onPoints)
+      {
+        cellState.resize(static_cast<size_t>(ncells) * NC, 0.0);
+        table = cellState.data();
+        for (int k = 0; k < s.Components; ++k)
+        {
+          cellColumns.push_back(s.Column + k);
+        }
+      }
+      const vtkIdType bad = vtkARMeshKernels::PackComponents(array, table, stride, column);
+      if (bad >= 0)
+      {
+        problem << "The " << s.Role << " array '" << array->GetName() << "' holds NaN or Inf ("
+                << (onPoints ? "point " : "cell ") << bad << "). ";
+        continue;
+      }
+      if (s.MustBePositive)
+      {
+        const vtkIdType n = onPoints ? npts : ncells;
+        for (vtkIdType i = 0; i < n; ++i)
+        {
+          const double v = table[static_cast<size_t>(i) * stride + column];
+          if (!(v > 0.0))
+          {
+            problem << "The " << s.Role << " array '" << array->GetName() << "' is " << v
+                    << " at " << (onPoints ? "point " : "cell ") << i
+                    << ": it must be positive everywhere. ";
+            break;
+          }
+        }
+      }
+    }
+  }
+  if (!vtkARMeshKernels::AgreeToProceed(
+        this, problem.str(), mesh, vtkARMeshKernels::Census(mesh), "the shock sensor"))
+  {
+    return 1;
+  }
+  this->UpdateProgress(0.1);
+
+  if (!cellColumns.empty())
+  {
+    const int nc = static_cast<int>(cellColumns.size());
+    std::vector<double> avg;
+    const bool ok = vtkARMeshKernels::CellsToPoints(
+      mesh, nc,
+      [&](vtkIdType c, double* values, double& weight) {
+        double W[vtkARMeshKernels::MaxCellPoints][3];
+        int n;
+        if (!mesh.IsVolumeCell(c) || !vtkARMeshKernels::GradientOperator(mesh, c, W, n, weight))
+        {
+          return false;
+        }
+        for (int k = 0; k < nc; ++k)
+        {
+          values[k] = cellState[static_cast<size_t>(c) * NC + cellColumns[k]];
+        }
+        return true;
+      },
+      avg, this);
+    if (!ok)
+    {
+      return 1;
+    }
+    vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType p = b; p < e; ++p)
+      {
+        for (int k = 0; k < nc; ++k)
+        {
+          state[static_cast<size_t>(p) * NC + cellColumns[k]] = avg[static_cast<size_t>(p) * nc + k];
+        }
+      }
+    });
+  }
+
+  // ---- Primitive state at the points: V (3), p, rho.
+  const double gamma = this->Gamma;
+  const double R = this->GasConstant;
+  const int set = this->VariableSet;
+  std::atomic<vtkIdType> badPressure(-1);
+  vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType p = b; p < e; ++p)
+    {
+      double* s = &state[static_cast<size_t>(p) * NC];
+      if (set == VELOCITY_PRESSURE_TEMPERATURE)
+      {
+        s[4] = s[3] / (R * s[4]); // rho = p / (R T)
+      }
+      else if (set == CONSERVED)
+      {
+        const double rho = s[3], rhoE = s[4];
+        const double m2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
+        const double pressure = (gamma - 1.0) * (rhoE - 0.5 * m2 / rho);
+        s[0] /= rho;
+        s[1] /= rho;
+        s[2] /= rho;
+        s[3] = pressure;
+        s[4] = rho;
+        if (!(pressure > 0.0) && mesh.IsOwnedPoint(p))
+        {
+          vtkIdType expected = -1;
+          badPressure.compare_exchange_strong(expected, p);
+        }
+      }
+    }
+  });
+  double derivedBad = badPressure >= 0 ? 1.0 : 0.0;
+  vtkARMeshKernels::AllReduceMax(&derivedBad, 1);
+  if (badPressure >= 0)
+  {
+    vtkErrorMacro(<< "The pressure derived from the conserved variables, (Gamma - 1)(rhoE - "
+                     "|rhoU|^2 / (2 rho)), is not positive at point "
+                  << badPressure.load()
+                  << ": check the TotalEnergy array (energy per unit volume) and Gamma. The "
+                     "output is the input, unchanged.");
+  }
+  if (derivedBad > 0.0)
+  {
+    return 1;
+  }
+  this->UpdateProgress(0.3);
+
+  // ---- grad p at the points: weighted average of the cell gradients.
+  std::vector<double> gradP;
+  const bool ok = vtkARMeshKernels::CellsToPoints(
+    mesh, 3,
+    [&](vtkIdType c, double* g, double& weight) {
+      double W[vtkARMeshKernels::MaxCellPoints][3];
+      int n;
+      if (!mesh.IsVolumeCell(c) || !vtkARMeshKernels::GradientOperator(mesh, c, W, n, weight))
+      {
+        return false;
+      }
+      const vtkIdType* ids = mesh.CellPoints(c);
+      g[0] = g[1] = g[2] = 0.0;
+      for (int a = 0; a < n; ++a)
+      {
+        const double pa = state[static_cast<size_t>(ids[a]) * NC + 3];
+        g[0] += W[a][0] * pa;
+        g[1] += W[a][1] * pa;
+        g[2] += W[a][2] * pa;
+      }
+      return true;
+    },
+    gradP, this);
+  double abortFlag = ok ? 0.0 : 1.0;
+  vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
+  if (abortFlag > 0.0)
+  {
+    return 1;
+  }
+  this->UpdateProgress(0.7);
+
+  // ---- Point quantities: Mn, |grad p|, V.grad p, local Mach.
+  vtkNew<vtkDoubleArray> normalMach;
+  normalMach->SetName("NormalMach");
+  normalMach->SetNumberOfTuples(npts);
+  double* mn = normalMach->GetPointer(0);
+  std::vector<double> pointInfo(3 * static_cast<size_t>(npts)); // |grad p|, V.grad p, Mach
+  vtkSMPThreadLocal<double> localMax(0.0);
+  vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
+    double& gmax = localMax.Local();
+    for (vtkIdType p = b; p < e; ++p)
+    {
+      const double* s = &state[static_cast<size_t>(p) * NC];
+      const double* g = &gradP[3 * static_cast<size_t>(p)];
+      const double a = std::sqrt(gamma * s[3] / s[4]);
+      const double gmag = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+      const double vg = s[0] * g[0] + s[1] * g[1] + s[2] * g[2];
+      mn[p] = gmag > 0.0 ? vg / (a * gmag) : 0.0;
+      double* info = &pointInfo[3 * static_cast<size_t>(p)];
+      info[0] = gmag;
+      info[1] = vg;
+      info[2] = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / a;
+      if (mesh.IsOwnedPoint(p))
+      {
+        gmax = std::max(gmax, gmag);
+      }
+    }
+  });
+  double gradMax = 0.0;
+  for (double m : localMax)
+  {
+    gradMax = std::max(gradMax, m);
+  }
+  vtkARMeshKernels::AllReduceMax(&gradMax, 1);
+
+  // ---- Shock cells: Mn = 1 crosses the cell, and the noise filters pass.
+  vtkNew<vtkUnsignedCharArray> shockCells;
+  shockCells->SetName("ShockCells");
+  shockCells->SetNumberOfTuples(ncells);
+  unsigned char* sc = shockCells->GetPointer(0);
+  const double gradLimit = this->PressureGradientThreshold * gradMax;
+  const bool compressionOnly = this->CompressionOnly;
+  const double machLo = this->UpstreamMachRange[0];
+  const double machHi = this->UpstreamMachRange[1];
+  vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType c = b; c < e; ++c)
+    {
+      sc[c] = 0;
+      if (!mesh.IsVolumeCell(c) || mesh.CellSize(c) > vtkARMeshKernels::MaxCellPoints)
+      {
+        continue;
+      }
+      const vtkIdType* ids = mesh.CellPoints(c);
+      const int n = mesh.CellSize(c);
+      double lo = mn[ids[0]], hi = lo, gsum = 0.0, vgsum = 0.0, machMax = 0.0;
+      for (int a = 0; a < n; ++a)
+      {
+        const double m = mn[ids[a]];
+        lo = std::min(lo, m);
+        hi = std::max(hi, m);
+        const double* info = &pointInfo[3 * static_cast<size_t>(ids[a])];
+        gsum += info[0];
+        vgsum += info[1];
+        machMax = std::max(machMax, info[2]);
+      }
+      const bool crossed = (lo < 1.0 && hi >= 1.0) || (lo <= 1.0 && hi > 1.0);
+      const bool strong = gsum / n >= gradLimit && gsum > 0.0;
+      const bool compression = !compressionOnly || vgsum > 0.0;
+      const bool upstream = machMax >= machLo && machMax <= machHi;
+      sc[c] = (crossed && strong && compression && upstream) ? 1 : 0;
+    }
+  });
+
+  output->GetPointData()->AddArray(normalMach);
+  output->GetCellData()->AddArray(shockCells);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "VariableSet: " << this->VariableSet << "\n";
+  os << indent << "Gamma: " << this->Gamma << "\n";
+  os << indent << "GasConstant: " << this->GasConstant << "\n";
+  os << indent << "PressureGradientThreshold: " << this->PressureGradientThreshold << "\n";
+  os << indent << "CompressionOnly: " << this->CompressionOnly << "\n";
+  os << indent << "UpstreamMachRange: " << this->UpstreamMachRange[0] << " "
+     << this->UpstreamMachRange[1] << "\n";
+}

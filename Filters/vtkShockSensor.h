@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class vtkShockSensor
+ * @brief Lovely-Haimes shock sensor: normal Mach number and shock cells (Ito et al., Eq. 3).
+ *
+ * At every point the filter computes the normal Mach number
+ *
+ *   Mn = V . grad(p) / ( a |grad(p)| ),   a = sqrt(Gamma p / rho),
+ *
+ * the Mach number of the flow in the direction of the pressure gradient. A
+ * shock is where Mn passes through 1. grad(p) at a point is the volume-weighted
+ * average of the cell gradients around it (exact P1 gradients in tetrahedra,
+ * least-squares linear fits in other linear 3-D cells).
+ *
+ * The flow state comes from one of three sets of arrays (VariableSet), point
+ * or cell data (cell data are first averaged to the points):
+ * - VELOCITY_PRESSURE_DENSITY: Velocity (3), Pressure, Density;
+ * - VELOCITY_PRESSURE_TEMPERATURE: Velocity, Pressure, Temperature, with
+ *   rho = p / (GasConstant T);
+ * - CONSERVED: Density, Momentum (rho V, 3), TotalEnergy (rho E, per unit
+ *   volume), with p = (Gamma - 1) (rhoE - |rhoV|^2 / (2 rho)).
+ * The arrays are chosen with SetInputArrayToProcess: index 0 Velocity,
+ * 1 Pressure, 2 Density, 3 Temperature, 4 Momentum, 5 TotalEnergy.
+ *
+ * Output: the input, shallow-copied, plus the point array "NormalMach" and
+ * the cell array "ShockCells" (unsigned char, 1 or 0). A cell is a shock cell
+ * when the iso-surface Mn = 1 crosses it (one of its edges has ends on either
+ * side of 1; as a cell's edges connect all its points this is min Mn < 1 <=
+ * max Mn over the points) and it passes the noise filters:
+ * - PressureGradientThreshold (default 0.05): the mean |grad p| over the
+ *   cell's points is at least this fraction of the global maximum of
+ *   |grad p|. Where p is nearly uniform the direction of grad p is noise and
+ *   so is Mn; 0 disables the filter.
+ * - CompressionOnly (default on): V . grad(p) > 0 (averaged over the cell's
+ *   points): the flow runs into rising pressure. Expansion fans also have
+ *   Mn = 1 surfaces, with V . grad(p) < 0.
+ * - UpstreamMachRange (default [1, 1e6]): the largest local Mach number
+ *   |V|/a over the cell's points, i.e. on its upstream side, lies in the
+ *   range. A shock needs a supersonic upstream state; raise the lower bound
+ *   to keep only strong shocks.
+ *
+ * Errors (output = input, unchanged): a missing array, a wrong number of
+ * components, NaN or Inf, p <= 0, rho <= 0 or T <= 0 (or p <= 0 derived from
+ * conserved variables), Gamma <= 1, an empty mesh, no 3-D cells.
+ *
+ * Under MPI the maximum of |grad p| is reduced over ranks and one level of
+ * ghost cells is requested, so that -np N equals the serial run.
+ *
+ * @sa vtkWeightFunction
+ */
+#ifndef vtkShockSensor_h
+#define vtkShockSensor_h
+
+#include "AdaptiveRedistributionFiltersModule.h" // for export macro
+#include "vtkUnstructuredGridAlgorithm.h"
+
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkShockSensor : public vtkUnstructuredGridAlgorithm
+{
+public:
+  static vtkShockSensor* New();
+  vtkTypeMacro(vtkShockSensor, vtkUnstructuredGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum VariableSets
+  {
+    VELOCITY_PRESSURE_DENSITY = 0,
+    VELOCITY_PRESSURE_TEMPERATURE = 1,
+    CONSERVED = 2
+  };
+
+  /// Indices for SetInputArrayToProcess.
+  enum ArrayIndices
+  {
+    VELOCITY = 0,
+    PRESSURE = 1,
+    DENSITY = 2,
+    TEMPERATURE = 3,
+    MOMENTUM = 4,
+    TOTAL_ENERGY = 5
+  };
+
+  ///@{
+  /// Which arrays describe the flow. Default VELOCITY_PRESSURE_DENSITY.
+  vtkSetClampMacro(VariableSet, int, VELOCITY_PRESSURE_DENSITY, CONSERVED);
+  vtkGetMacro(VariableSet, int);
+  ///@}
+
+  ///@{
+  /// Ratio of specific heats. Default 1.4.
+  vtkSetMacro(Gamma, double);
+  vtkGetMacro(Gamma, double);
+  ///@}
+
+  ///@{
+  /// Specific gas constant R (J/(kg K)), used with temperature. Default 287.05 (air).
+  vtkSetMacro(GasConstant, double);
+  vtkGetMacro(GasConstant, double);
+  ///@}
+
+  ///@{
+  /// Fraction of the global maximum of |grad p| below which a cell is not a
+  /// shock cell. Default 0.05.
+  vtkSetClampMacro(PressureGradientThreshold, double, 0.0, 1.0);
+  vtkGetMacro(PressureGradientThreshold, double);
+  ///@}
+
+  ///@{
+  /// Keep only compressions (V . grad p > 0). Default on.
+  vtkSetMacro(CompressionOnly, bool);
+  vtkGetMacro(CompressionOnly, bool);
+  vtkBooleanMacro(CompressionOnly, bool);
+  ///@}
+
+  ///@{
+  /// Range of the upstream local Mach number. Default [1, 1e6].
+  vtkSetVector2Macro(UpstreamMachRange, double);
+  vtkGetVector2Macro(UpstreamMachRange, double);
+  ///@}
+
+protected:
+  vtkShockSensor();
+  ~vtkShockSensor() override = default;
+
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+private:
+  vtkShockSensor(const vtkShockSensor&) = delete;
+  void operator=(const vtkShockSensor&) = delete;
+
+  int VariableSet = VELOCITY_PRESSURE_DENSITY;
+  double Gamma = 1.4;
+  double GasConstant = 287.05;
+  double PressureGradientThreshold = 0.05;
+  bool CompressionOnly = true;
+  double UpstreamMachRange[2] = { 1.0, 1.0e6 };
+};
+
+#endif

@@ -1,0 +1,451 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkWeightFunction.h"
+
+#include "vtkARMeshKernels.h"
+#include "vtkCellData.h"
+#include "vtkCommand.h"
+#include "vtkDataArraySelection.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+vtkStandardNewMacro(vtkWeightFunction);
+
+namespace
+{
+/// One selected array; each of its components is a variable q^i.
+struct Variable
+{
+  vtkDataArray* Array = nullptr;
+  bool OnPoints = true;
+  int FirstColumn = 0; ///< column of its first component in the point-value table
+};
+
+inline double BooleanSum(double a, double b)
+{
+  return a + b - a * b;
+}
+}
+
+//------------------------------------------------------------------------------
+vtkWeightFunction::vtkWeightFunction()
+  : VariableSelection(vtkDataArraySelection::New())
+{
+  // A change of the selection re-executes the filter.
+  this->VariableSelection->AddObserver(
+    vtkCommand::ModifiedEvent, this, &vtkWeightFunction::Modified);
+}
+
+vtkWeightFunction::~vtkWeightFunction()
+{
+  this->VariableSelection->Delete();
+}
+
+void vtkWeightFunction::AddVariable(const char* name)
+{
+  if (name)
+  {
+    this->VariableSelection->EnableArray(name);
+  }
+}
+
+void vtkWeightFunction::RemoveAllVariables()
+{
+  this->VariableSelection->RemoveAllArrays();
+}
+
+//------------------------------------------------------------------------------
+int vtkWeightFunction::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  const int ghosts = outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS());
+  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));
+  // One more level: gradients at partition boundaries need the neighbours.
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), ghosts + 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkWeightFunction::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
+  output->ShallowCopy(input);
+  vtkARMeshKernels::EnsureThreadedBackend();
+
+  // ---- Validation. Every rank reaches the same collective calls, in order.
+  std::ostringstream problem;
+  vtkARMeshKernels::MeshView mesh;
+  std::string meshError;
+  if (!mesh.Build(input, meshError))
+  {
+    problem << meshError << ". ";
+  }
+
+  std::vector<Variable> variables;
+  int nq = 0;
+  vtkPointData* pd = input->GetPointData();
+  vtkCellData* cd = input->GetCellData();
+  for (int i = 0; i < this->VariableSelection->GetNumberOfArrays(); ++i)
+  {
+    if (!this->VariableSelection->GetArraySetting(i))
+    {
+      continue;
+    }
+    const char* name = this->VariableSelection->GetArrayName(i);
+    Variable v;
+    v.Array = pd->GetArray(name);
+    v.OnPoints = v.Array != nullptr;
+    if (!v.Array)
+    {
+      v.Array = cd->GetArray(name);
+    }
+    if (!v.Array)
+    {
+      if (mesh.NumberOfCells > 0)
+      {
+        problem << "Variable '" << name << "' is not a numeric point or cell array of the input. ";
+      }
+      continue;
+    }
+    v.FirstColumn = nq;
+    nq += v.Array->GetNumberOfComponents();
+    variables.push_back(v);
+  }
+  if (this->VariableSelection->GetNumberOfArraysEnabled() == 0)
+  {
+    problem << "No variable is selected: choose one or more point or cell arrays "
+               "(the paper uses the conserved variables rho, rhoU, rhoE). ";
+  }
+
+  // Values of all variables at the points: nq columns.
+  const vtkIdType npts = mesh.NumberOfPoints;
+  const vtkIdType ncells = mesh.NumberOfCells;
+  std::vector<double> Q(static_cast<size_t>(npts) * std::max(nq, 1));
+  std::vector<double> cellValues; // cell variables, cell-major, nqc columns
+  std::vector<int> cellColumns;   // their columns in Q
+  if (problem.str().empty() && ncells > 0)
+  {
+    for (const Variable& v : variables)
+    {
+      if (v.OnPoints)
+      {
+        const vtkIdType bad =
+          vtkARMeshKernels::PackComponents(v.Array, Q.data(), nq, v.FirstColumn);
+        if (bad >= 0)
+        {
+          problem << "Point array '" << v.Array->GetName() << "' holds NaN or Inf (point " << bad
+                  << "). ";
+        }
+      }
+      else
+      {
+        for (int k = 0; k < v.Array->GetNumberOfComponents(); ++k)
+        {
+          cellColumns.push_back(v.FirstColumn + k);
+        }
+      }
+    }
+    const int nqc = static_cast<int>(cellColumns.size());
+    if (nqc > 0)
+    {
+      cellValues.resize(static_cast<size_t>(ncells) * nqc);
+      int offset = 0;
+      for (const Variable& v : variables)
+      {
+        if (!v.OnPoints)
+        {
+          const vtkIdType bad =
+            vtkARMeshKernels::PackComponents(v.Array, cellValues.data(), nqc, offset);
+          if (bad >= 0)
+          {
+            problem << "Cell array '" << v.Array->GetName() << "' holds NaN or Inf (cell " << bad
+                    << "). ";
+          }
+          offset += v.Array->GetNumberOfComponents();
+        }
+      }
+    }
+  }
+
+  if (!vtkARMeshKernels::AgreeToProceed(
+        this, problem.str(), mesh, vtkARMeshKernels::Census(mesh), "the weight function"))
+  {
+    return 1;
+  }
+  this->UpdateProgress(0.1);
+
+  // ---- Cell variables are averaged to the points to take their gradients.
+  const int nqc = static_cast<int>(cellColumns.size());
+  if (nqc > 0)
+  {
+    std::vector<double> avg;
+    const bool ok = vtkARMeshKernels::CellsToPoints(
+      mesh, nqc,
+      [&](vtkIdType c, double* values, double& weight) {
+        double W[vtkARMeshKernels::MaxCellPoints][3];
+        int n;
+        if (!mesh.IsVolumeCell(c) || !vtkARMeshKernels::GradientOperator(mesh, c, W, n, weight))
+        {
+          return false;
+        }
+        std::copy_n(&cellValues[static_cast<size_t>(c) * nqc], nqc, values);
+        return true;
+      },
+      avg, this);
+    if (!ok)
+    {
+      return 1;
+    }
+    vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType p = b; p < e; ++p)
+      {
+        for (int k = 0; k < nqc; ++k)
+        {
+          Q[static_cast<size_t>(p) * nq + cellColumns[k]] = avg[static_cast<size_t>(p) * nqc + k];
+        }
+      }
+    });
+  }
+  // Column -> index into cellValues, or -1 for a point variable.
+  std::vector<int> cellIndexOfColumn(nq, -1);
+  for (int k = 0; k < nqc; ++k)
+  {
+    cellIndexOfColumn[cellColumns[k]] = k;
+  }
+  this->UpdateProgress(0.2);
+
+  // Normalized gradient magnitudes r_ik of cell c; returns false for cells
+  // that do not take part (not a linear 3-D cell, degenerate).
+  const double eps = this->Epsilon;
+  auto normalizedGradients = [&](vtkIdType c, double* r) -> bool {
+    double W[vtkARMeshKernels::MaxCellPoints][3];
+    int n;
+    double measure;
+    if (!mesh.IsVolumeCell(c) || !vtkARMeshKernels::GradientOperator(mesh, c, W, n, measure))
+    {
+      return false;
+    }
+    const vtkIdType* ids = mesh.CellPoints(c);
+    for (int i = 0; i < nq; ++i)
+    {
+      double g0 = 0.0, g1 = 0.0, g2 = 0.0, mean = 0.0;
+      for (int a = 0; a < n; ++a)
+      {
+        const double q = Q[static_cast<size_t>(ids[a]) * nq + i];
+        g0 += W[a][0] * q;
+        g1 += W[a][1] * q;
+        g2 += W[a][2] * q;
+        mean += q;
+      }
+      mean /= n;
+      if (cellIndexOfColumn[i] >= 0)
+      {
+        mean = cellValues[static_cast<size_t>(c) * nqc + cellIndexOfColumn[i]];
+      }
+      const double inv = 1.0 / (std::abs(mean) + eps);
+      r[3 * i + 0] = std::abs(g0) * inv;
+      r[3 * i + 1] = std::abs(g1) * inv;
+      r[3 * i + 2] = std::abs(g2) * inv;
+    }
+    return true;
+  };
+
+  // ---- Pass 1: maxima of r_ik over owned cells, then over ranks.
+  std::atomic<bool> aborted(false);
+  vtkSMPThreadLocal<std::vector<double>> localMax;
+  vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
+    if (aborted || vtkARMeshKernels::Aborted(this))
+    {
+      aborted = true;
+      return;
+    }
+    std::vector<double>& mx = localMax.Local();
+    mx.resize(3 * nq, 0.0);
+    std::vector<double> r(3 * nq);
+    for (vtkIdType c = b; c < e; ++c)
+    {
+      if (mesh.IsOwnedCell(c) && normalizedGradients(c, r.data()))
+      {
+        for (int j = 0; j < 3 * nq; ++j)
+        {
+          mx[j] = std::max(mx[j], r[j]);
+        }
+      }
+    }
+  });
+  std::vector<double> rMax(3 * nq, 0.0);
+  for (auto& mx : localMax)
+  {
+    for (size_t j = 0; j < mx.size(); ++j)
+    {
+      rMax[j] = std::max(rMax[j], mx[j]);
+    }
+  }
+  // The bounding box diagonal L, for the round-off floor below.
+  double bounds[6];
+  input->GetBounds(bounds);
+  double extent[6] = { -bounds[0], bounds[1], -bounds[2], bounds[3], -bounds[4], bounds[5] };
+  vtkARMeshKernels::AllReduceMax(rMax.data(), 3 * nq);
+  vtkARMeshKernels::AllReduceMax(extent, 6);
+  const double L = std::sqrt((extent[1] + extent[0]) * (extent[1] + extent[0]) +
+    (extent[3] + extent[2]) * (extent[3] + extent[2]) + (extent[5] + extent[4]) * (extent[5] + extent[4]));
+  double abortFlag = aborted ? 1.0 : 0.0;
+  vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
+  if (abortFlag > 0.0)
+  {
+    output->ShallowCopy(input);
+    return 1;
+  }
+  // [.]_max of Eq. 1: per variable, over all cells and all three directions.
+  // A variable whose relative change across the whole domain stays below
+  // 1e-8 (r * L) is constant up to round-off and contributes nothing.
+  std::vector<double> rInv(3 * nq, 0.0);
+  for (int i = 0; i < nq; ++i)
+  {
+    const double m = std::max({ rMax[3 * i], rMax[3 * i + 1], rMax[3 * i + 2] });
+    for (int k = 0; k < 3; ++k)
+    {
+      rInv[3 * i + k] = (m * L > 1e-8) ? 1.0 / m : 0.0;
+    }
+  }
+  this->UpdateProgress(0.5);
+
+  // ---- Pass 2: W^k per cell (Boolean sum over variables), and its maximum.
+  std::vector<float> Wk(3 * static_cast<size_t>(ncells), 0.0f);
+  vtkSMPThreadLocal<double> localWMax(0.0);
+  vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
+    if (aborted || vtkARMeshKernels::Aborted(this))
+    {
+      aborted = true;
+      return;
+    }
+    double& wmax = localWMax.Local();
+    std::vector<double> r(3 * nq);
+    for (vtkIdType c = b; c < e; ++c)
+    {
+      if (!normalizedGradients(c, r.data()))
+      {
+        continue;
+      }
+      double w[3] = { 0.0, 0.0, 0.0 };
+      for (int i = 0; i < nq; ++i)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          w[k] = BooleanSum(w[k], std::min(1.0, r[3 * i + k] * rInv[3 * i + k]));
+        }
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        Wk[3 * static_cast<size_t>(c) + k] = static_cast<float>(w[k]);
+        if (mesh.IsOwnedCell(c))
+        {
+          wmax = std::max(wmax, w[k]);
+        }
+      }
+    }
+  });
+  double wMax = 0.0;
+  for (double m : localWMax)
+  {
+    wMax = std::max(wMax, m);
+  }
+  vtkARMeshKernels::AllReduceMax(&wMax, 1);
+  abortFlag = aborted ? 1.0 : 0.0;
+  vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
+  if (abortFlag > 0.0)
+  {
+    output->ShallowCopy(input);
+    return 1;
+  }
+  this->UpdateProgress(0.8);
+
+  // ---- Pass 3: W = 1 + Boolean sum over directions of W^k / max.
+  vtkNew<vtkDoubleArray> result;
+  result->SetName(this->ResultArrayName.c_str());
+  result->SetNumberOfTuples(ncells);
+  double* out = result->GetPointer(0);
+  const double wInv = wMax > 0.0 ? 1.0 / wMax : 0.0;
+  vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType c = b; c < e; ++c)
+    {
+      double s = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        s = BooleanSum(s, std::min(1.0, Wk[3 * static_cast<size_t>(c) + k] * wInv));
+      }
+      out[c] = 1.0 + s;
+    }
+  });
+  output->GetCellData()->AddArray(result);
+
+  if (this->ComputePointWeight)
+  {
+    std::vector<double> pointW;
+    const bool ok = vtkARMeshKernels::CellsToPoints(
+      mesh, 1,
+      [&](vtkIdType c, double* values, double& weight) {
+        double W[vtkARMeshKernels::MaxCellPoints][3];
+        int n;
+        if (!mesh.IsVolumeCell(c) || !vtkARMeshKernels::GradientOperator(mesh, c, W, n, weight))
+        {
+          return false;
+        }
+        values[0] = out[c];
+        return true;
+      },
+      pointW, this);
+    if (ok)
+    {
+      vtkNew<vtkDoubleArray> pointResult;
+      pointResult->SetName(this->ResultArrayName.c_str());
+      pointResult->SetNumberOfTuples(npts);
+      double* pw = pointResult->GetPointer(0);
+      vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
+        for (vtkIdType p = b; p < e; ++p)
+        {
+          // Points reached by no 3-D cell keep the neutral value 1.
+          pw[p] = pointW[p] > 0.0 ? pointW[p] : 1.0;
+        }
+      });
+      output->GetPointData()->AddArray(pointResult);
+    }
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkWeightFunction::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Variables:";
+  for (int i = 0; i < this->VariableSelection->GetNumberOfArrays(); ++i)
+  {
+    if (this->VariableSelection->GetArraySetting(i))
+    {
+      os << " " << this->VariableSelection->GetArrayName(i);
+    }
+  }
+  os << "\n";
+  os << indent << "Epsilon: " << this->Epsilon << "\n";
+  os << indent << "ResultArrayName: " << this->ResultArrayName << "\n";
+  os << indent << "ComputePointWeight: " << this->ComputePointWeight << "\n";
+}

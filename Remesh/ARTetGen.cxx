@@ -1,0 +1,238 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "ARTetGen.h"
+
+#include "ARTetGeometry.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <tetgen.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+namespace ar
+{
+namespace
+{
+bool ValidateSurface(const double* xyz, std::size_t nPoints, const std::int64_t* tri,
+  std::size_t nTriangles, std::string& error)
+{
+  if (nPoints < 4 || nTriangles < 4)
+  {
+    error = "a closed surface needs at least 4 points and 4 triangles (got " +
+      std::to_string(nPoints) + " points, " + std::to_string(nTriangles) + " triangles).";
+    return false;
+  }
+  for (std::size_t i = 0; i < 3 * nPoints; ++i)
+  {
+    if (!std::isfinite(xyz[i]))
+    {
+      error = "point " + std::to_string(i / 3) + " has a non-finite coordinate.";
+      return false;
+    }
+  }
+  std::map<std::pair<std::int64_t, std::int64_t>, int> edgeUse;
+  for (std::size_t t = 0; t < nTriangles; ++t)
+  {
+    const std::int64_t* v = tri + 3 * t;
+    for (int k = 0; k < 3; ++k)
+    {
+      if (v[k] < 0 || static_cast<std::size_t>(v[k]) >= nPoints)
+      {
+        error = "triangle " + std::to_string(t) + " refers to point " + std::to_string(v[k]) +
+          ", which does not exist.";
+        return false;
+      }
+    }
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2])
+    {
+      error = "triangle " + std::to_string(t) + " repeats a vertex.";
+      return false;
+    }
+    const double* a = xyz + 3 * v[0];
+    const double* b = xyz + 3 * v[1];
+    const double* c = xyz + 3 * v[2];
+    const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+    const double w[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+    const double n[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+      u[0] * w[1] - u[1] * w[0] };
+    if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0)
+    {
+      error = "triangle " + std::to_string(t) + " has zero area.";
+      return false;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      std::int64_t p = v[k], q = v[(k + 1) % 3];
+      ++edgeUse[std::make_pair(std::min(p, q), std::max(p, q))];
+    }
+  }
+  for (const auto& e : edgeUse)
+  {
+    if (e.second != 2)
+    {
+      error = "the surface is not closed and manifold: edge (" + std::to_string(e.first.first) +
+        ", " + std::to_string(e.first.second) + ") belongs to " + std::to_string(e.second) +
+        " triangle(s) instead of 2.";
+      return false;
+    }
+  }
+
+  // Orientation and self-intersection, with CGAL (exact predicates): TetGen
+  // would throw, or corrupt its heap, on such input.
+  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<Kernel::Point_3> points;
+  points.reserve(nPoints);
+  for (std::size_t i = 0; i < nPoints; ++i)
+  {
+    points.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  }
+  std::vector<std::array<std::size_t, 3>> faces(nTriangles);
+  for (std::size_t t = 0; t < nTriangles; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      faces[t][k] = static_cast<std::size_t>(tri[3 * t + k]);
+    }
+  }
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  if (!PMP::is_polygon_soup_a_polygon_mesh(faces))
+  {
+    error = "the surface triangles are not consistently oriented (or a vertex is non-manifold).";
+    return false;
+  }
+  CGAL::Surface_mesh<Kernel::Point_3> mesh;
+  PMP::polygon_soup_to_polygon_mesh(points, faces, mesh);
+  if (PMP::does_self_intersect(mesh))
+  {
+    error = "the surface intersects itself.";
+    return false;
+  }
+  return true;
+}
+}
+
+std::string TetGenSwitches(const TetGenOptions& options)
+{
+  std::ostringstream s;
+  s << "p";
+  if (options.MaxRadiusEdgeRatio > 0.0)
+  {
+    s << "q" << options.MaxRadiusEdgeRatio;
+    if (options.MinDihedralAngle > 0.0)
+    {
+      s << "/" << options.MinDihedralAngle;
+    }
+  }
+  if (options.MaxVolume > 0.0)
+  {
+    s << "a" << options.MaxVolume;
+  }
+  if (options.PreserveSurface)
+  {
+    s << "Y";
+  }
+  s << "Q";
+  return s.str();
+}
+
+bool TetGenTetrahedralizeSurface(const double* xyz, std::size_t nPoints,
+  const std::int64_t* triangles, std::size_t nTriangles, const TetGenOptions& options,
+  TetMesh& out, std::string& error)
+{
+  out = TetMesh();
+  if (!ValidateSurface(xyz, nPoints, triangles, nTriangles, error))
+  {
+    return false;
+  }
+
+  tetgenio in, result;
+  in.firstnumber = 0;
+  in.numberofpoints = static_cast<int>(nPoints);
+  in.pointlist = new REAL[3 * nPoints];
+  std::copy(xyz, xyz + 3 * nPoints, in.pointlist);
+  in.numberoffacets = static_cast<int>(nTriangles);
+  in.facetlist = new tetgenio::facet[nTriangles];
+  for (std::size_t t = 0; t < nTriangles; ++t)
+  {
+    tetgenio::facet& f = in.facetlist[t];
+    tetgenio::init(&f);
+    f.numberofpolygons = 1;
+    f.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&f.polygonlist[0]);
+    f.polygonlist[0].numberofvertices = 3;
+    f.polygonlist[0].vertexlist = new int[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      f.polygonlist[0].vertexlist[k] = static_cast<int>(triangles[3 * t + k]);
+    }
+  }
+
+  std::string switches = TetGenSwitches(options);
+  std::vector<char> sw(switches.begin(), switches.end());
+  sw.push_back('\0');
+  try
+  {
+    tetrahedralize(sw.data(), &in, &result);
+  }
+  catch (int code)
+  {
+    // terminatetetgen() codes: 1 out of memory, 2 internal error, 3 self-intersection,
+    // 4 small feature, 5 close facets, 10 bad input.
+    error = "TetGen failed (code " + std::to_string(code) + ", switches '" + switches + "')";
+    switch (code)
+    {
+      case 3:
+        error += ": the surface intersects itself.";
+        break;
+      case 4:
+      case 5:
+        error += ": the surface has features too small or facets too close for the tolerance.";
+        break;
+      case 1:
+        error += ": out of memory.";
+        break;
+      default:
+        error += ".";
+    }
+    return false;
+  }
+  catch (...)
+  {
+    error = "TetGen failed with an unexpected exception (switches '" + switches + "').";
+    return false;
+  }
+
+  if (result.numberoftetrahedra <= 0 || result.numberofcorners != 4)
+  {
+    error = "TetGen produced no linear tetrahedra.";
+    return false;
+  }
+  out.Points.assign(result.pointlist, result.pointlist + 3 * result.numberofpoints);
+  out.Tetrahedra.resize(4 * static_cast<std::size_t>(result.numberoftetrahedra));
+  for (std::size_t t = 0; t < static_cast<std::size_t>(result.numberoftetrahedra); ++t)
+  {
+    std::int64_t* v = &out.Tetrahedra[4 * t];
+    for (int k = 0; k < 4; ++k)
+    {
+      v[k] = result.tetrahedronlist[4 * t + k] - result.firstnumber;
+    }
+    const double* p[4] = { &out.Points[3 * v[0]], &out.Points[3 * v[1]], &out.Points[3 * v[2]],
+      &out.Points[3 * v[3]] };
+    if (TetSignedVolume(p[0], p[1], p[2], p[3]) < 0.0)
+    {
+      std::swap(v[1], v[2]);
+    }
+  }
+  return true;
+}
+}

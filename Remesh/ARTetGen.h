@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file ARTetGen.h
+ * @brief Constrained quality tetrahedralization of a closed triangulated surface with TetGen.
+ */
+#ifndef ARTetGen_h
+#define ARTetGen_h
+
+#include "ARTetMesh.h"
+
+#include <string>
+
+namespace ar
+{
+struct TetGenOptions
+{
+  /// Radius-edge ratio bound of TetGen's -q switch (> 1; about 1.414 is TetGen's default).
+  double MaxRadiusEdgeRatio = 1.414;
+  /// Minimum dihedral angle TetGen tries to reach, degrees (second value of -q).
+  double MinDihedralAngle = 12.0;
+  /// Maximum tetrahedron volume (-a); 0 means no bound.
+  double MaxVolume = 0.0;
+  /// Keep the boundary triangles exactly as given (-Y): no Steiner points on the surface.
+  bool PreserveSurface = true;
+};
+
+/**
+ * Tetrahedralizes the region bounded by a closed, consistently triangulated
+ * surface (points as x y z triples, triangles as 3 point indices each).
+ *
+ * The input is validated first (TetGen may corrupt its heap on malformed
+ * input): finite coordinates, indices in range, no triangle with a repeated
+ * vertex or zero area, every edge shared by exactly two triangles. A TetGen
+ * failure (it throws from terminatetetgen()) is caught. On failure the
+ * function returns false and `error` says why.
+ *
+ * The output's first points are the input points, in order.
+ */
+bool TetGenTetrahedralizeSurface(const double* xyz, std::size_t nPoints,
+  const std::int64_t* triangles, std::size_t nTriangles, const TetGenOptions& options,
+  TetMesh& out, std::string& error);
+
+/// The command-line switches that `options` stand for (e.g. "pq1.414/12YQ").
+std::string TetGenSwitches(const TetGenOptions& options);
+}
+
+#endif

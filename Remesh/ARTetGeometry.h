@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file ARTetGeometry.h
+ * @brief Volume and dihedral angles of tetrahedra (no VTK).
+ */
+#ifndef ARTetGeometry_h
+#define ARTetGeometry_h
+
+#include "ARTetMesh.h"
+
+namespace ar
+{
+/// Signed volume: positive when (p1-p0).((p2-p0)x(p3-p0)) > 0.
+double TetSignedVolume(const double p0[3], const double p1[3], const double p2[3], const double p3[3]);
+
+/// The six interior dihedral angles in degrees, at edges 01 02 03 12 13 23.
+/// A degenerate tetrahedron gives 0 or 180 for some angles.
+void TetDihedralAngles(
+  const double p0[3], const double p1[3], const double p2[3], const double p3[3], double angles[6]);
+
+/// Summary over a whole mesh.
+struct TetMeshStatistics
+{
+  double TotalVolume = 0.0;
+  double MinVolume = 0.0;
+  double MinDihedral = 0.0;
+  double MaxDihedral = 0.0;
+  std::size_t NumberOfNonPositive = 0;
+};
+TetMeshStatistics ComputeStatistics(const TetMesh& mesh);
+}
+
+#endif

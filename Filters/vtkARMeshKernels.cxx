@@ -5,7 +5,6 @@
 #include "vtkArrayDispatch.h"
 #include "vtkCellArray.h"
 #include "vtkCellType.h"
-#include "vtkCellTypes.h"
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
 #include "vtkDoubleArray.h"
@@ -23,18 +22,30 @@
 
 namespace
 {
+// The linear 3-D cell types (explicit: vtkCellTypes::GetDimension builds a
+// cell per call and complains about unknown type numbers).
 std::array<bool, 256> MakeVolumeCellTable()
 {
   std::array<bool, 256> table{};
-  for (int t = 0; t < 256; ++t)
+  for (int t : { VTK_TETRA, VTK_VOXEL, VTK_HEXAHEDRON, VTK_WEDGE, VTK_PYRAMID,
+         VTK_PENTAGONAL_PRISM, VTK_HEXAGONAL_PRISM, VTK_POLYHEDRON, VTK_CONVEX_POINT_SET })
   {
-    const auto type = static_cast<unsigned char>(t);
-    table[t] = t != VTK_EMPTY_CELL && vtkCellTypes::IsLinear(type) &&
-      vtkCellTypes::GetDimension(type) == 3;
+    table[t] = true;
+  }
+  return table;
+}
+std::array<bool, 256> MakeLowerDimensionalTable()
+{
+  std::array<bool, 256> table{};
+  for (int t : { VTK_EMPTY_CELL, VTK_VERTEX, VTK_POLY_VERTEX, VTK_LINE, VTK_POLY_LINE,
+         VTK_TRIANGLE, VTK_TRIANGLE_STRIP, VTK_POLYGON, VTK_PIXEL, VTK_QUAD })
+  {
+    table[t] = true;
   }
   return table;
 }
 const std::array<bool, 256> VolumeCells = MakeVolumeCellTable();
+const std::array<bool, 256> LowerDimensionalCells = MakeLowerDimensionalTable();
 }
 
 const bool* vtkARMeshKernels::MeshView::VolumeCellTable = VolumeCells.data();
@@ -118,7 +129,7 @@ vtkARMeshKernels::CellCensus vtkARMeshKernels::Census(const MeshView& mesh)
         ++census.VolumeCells;
       }
     }
-    else if (vtkCellTypes::GetDimension(t) < 3)
+    else if (LowerDimensionalCells[t])
     {
       ++census.LowerDimensional;
     }

@@ -74,7 +74,7 @@ public:
   {
     vtkIdType VolumeCells = 0;     ///< linear 3-D cells (tet, pyramid, wedge, hex, voxel, prisms, polyhedra)
     vtkIdType LowerDimensional = 0; ///< vertices, lines, triangles, quads, polygons ...
-    vtkIdType NonLinear = 0;       ///< quadratic and higher-order cells
+    vtkIdType NonLinear = 0;       ///< quadratic, higher-order and other cells
     vtkIdType TooManyPoints = 0;   ///< polyhedra with more than MaxCellPoints points
   };
   static CellCensus Census(const MeshView& mesh);

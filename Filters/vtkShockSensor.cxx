@@ -330,6 +330,45 @@ int vtkShockSensor::RequestData(
   }
   vtkARMeshKernels::AllReduceMax(&gradMax, 1);
 
+  // ---- Local peak of |grad p|: at each point, the largest |grad p| over
+  // the points of the cells around it (its two-ring).
+  std::vector<double> localPeak(npts, 0.0);
+  {
+    vtkSMPThreadLocal<std::vector<double>> partial;
+    vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
+      std::vector<double>& mx = partial.Local();
+      if (mx.empty())
+      {
+        mx.assign(npts, 0.0);
+      }
+      for (vtkIdType c = b; c < e; ++c)
+      {
+        if (!mesh.IsVolumeCell(c))
+        {
+          continue;
+        }
+        const vtkIdType* ids = mesh.CellPoints(c);
+        const int n = mesh.CellSize(c);
+        double cmax = 0.0;
+        for (int a = 0; a < n; ++a)
+        {
+          cmax = std::max(cmax, pointInfo[3 * static_cast<size_t>(ids[a])]);
+        }
+        for (int a = 0; a < n; ++a)
+        {
+          mx[ids[a]] = std::max(mx[ids[a]], cmax);
+        }
+      }
+    });
+    for (const std::vector<double>& mx : partial)
+    {
+      for (vtkIdType p = 0; p < static_cast<vtkIdType>(mx.size()); ++p)
+      {
+        localPeak[p] = std::max(localPeak[p], mx[p]);
+      }
+    }
+  }
+
   // ---- Shock cells: Mn = 1 crosses the cell, and the noise filters pass.
   vtkNew<vtkUnsignedCharArray> shockCells;
   shockCells->SetName("ShockCells");
@@ -337,6 +376,7 @@ int vtkShockSensor::RequestData(
   unsigned char* sc = shockCells->GetPointer(0);
   const double gradLimit = this->PressureGradientThreshold * gradMax;
   const bool compressionOnly = this->CompressionOnly;
+  const double localFraction = this->LocalPeakFraction;
   const double machLo = this->UpstreamMachRange[0];
   const double machHi = this->UpstreamMachRange[1];
   vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
@@ -349,7 +389,7 @@ int vtkShockSensor::RequestData(
       }
       const vtkIdType* ids = mesh.CellPoints(c);
       const int n = mesh.CellSize(c);
-      double lo = mn[ids[0]], hi = lo, gsum = 0.0, vgsum = 0.0, machMax = 0.0;
+      double lo = mn[ids[0]], hi = lo, gsum = 0.0, vgsum = 0.0, machMax = 0.0, peak = 0.0;
       for (int a = 0; a < n; ++a)
       {
         const double m = mn[ids[a]];
@@ -359,12 +399,38 @@ int vtkShockSensor::RequestData(
         gsum += info[0];
         vgsum += info[1];
         machMax = std::max(machMax, info[2]);
+        peak = std::max(peak, localPeak[ids[a]]);
       }
       const bool crossed = (lo < 1.0 && hi >= 1.0) || (lo <= 1.0 && hi > 1.0);
-      const bool strong = gsum / n >= gradLimit && gsum > 0.0;
+      const bool strong = gsum / n >= gradLimit && gsum / n >= localFraction * peak && gsum > 0.0;
       const bool compression = !compressionOnly || vgsum > 0.0;
       const bool upstream = machMax >= machLo && machMax <= machHi;
-      sc[c] = (crossed && strong && compression && upstream) ? 1 : 0;
+      if (!(crossed && strong && compression && upstream))
+      {
+        continue;
+      }
+      // Through a shock the normal Mach number falls as the pressure rises:
+      // grad(Mn) . grad(p) < 0 in the cell. A crossing of Mn = 1 made by
+      // noise in the direction of a weak grad p has no such order.
+      double W[vtkARMeshKernels::MaxCellPoints][3];
+      int nw;
+      double measure;
+      if (!vtkARMeshKernels::GradientOperator(mesh, c, W, nw, measure))
+      {
+        continue;
+      }
+      double gm[3] = { 0.0, 0.0, 0.0 }, gp[3] = { 0.0, 0.0, 0.0 };
+      for (int a = 0; a < nw; ++a)
+      {
+        const double m = mn[ids[a]];
+        const double pa = state[static_cast<size_t>(ids[a]) * NC + 3];
+        for (int k = 0; k < 3; ++k)
+        {
+          gm[k] += W[a][k] * m;
+          gp[k] += W[a][k] * pa;
+        }
+      }
+      sc[c] = (gm[0] * gp[0] + gm[1] * gp[1] + gm[2] * gp[2] < 0.0) ? 1 : 0;
     }
   });
 
@@ -382,6 +448,7 @@ void vtkShockSensor::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Gamma: " << this->Gamma << "\n";
   os << indent << "GasConstant: " << this->GasConstant << "\n";
   os << indent << "PressureGradientThreshold: " << this->PressureGradientThreshold << "\n";
+  os << indent << "LocalPeakFraction: " << this->LocalPeakFraction << "\n";
   os << indent << "CompressionOnly: " << this->CompressionOnly << "\n";
   os << indent << "UpstreamMachRange: " << this->UpstreamMachRange[0] << " "
      << this->UpstreamMachRange[1] << "\n";

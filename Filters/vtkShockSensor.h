@@ -26,11 +26,19 @@
  * the cell array "ShockCells" (unsigned char, 1 or 0). A cell is a shock cell
  * when the iso-surface Mn = 1 crosses it (one of its edges has ends on either
  * side of 1; as a cell's edges connect all its points this is min Mn < 1 <=
- * max Mn over the points) and it passes the noise filters:
+ * max Mn over the points), Mn falls where p rises across it (grad Mn . grad p
+ * < 0 in the cell: the order of a shock, which a crossing made by noise in
+ * the direction of a weak grad p lacks), and it passes the noise filters:
  * - PressureGradientThreshold (default 0.05): the mean |grad p| over the
  *   cell's points is at least this fraction of the global maximum of
  *   |grad p|. Where p is nearly uniform the direction of grad p is noise and
  *   so is Mn; 0 disables the filter.
+ * - LocalPeakFraction (default 0.5): the mean |grad p| over the cell's
+ *   points is at least this fraction of the largest |grad p| within two rings
+ *   of points around it. A captured shock is 2-3 cells thick; in its tails
+ *   the direction of grad p is poorly resolved, and behind an oblique shock
+ *   (supersonic tangential flow) a few degrees of error make Mn cross 1. This
+ *   local test keeps the core of weak and strong shocks alike.
  * - CompressionOnly (default on): V . grad(p) > 0 (averaged over the cell's
  *   points): the flow runs into rising pressure. Expansion fans also have
  *   Mn = 1 surfaces, with V . grad(p) < 0.
@@ -105,6 +113,15 @@ public:
   ///@}
 
   ///@{
+  /// Fraction of the local peak of |grad p| (the largest |grad p| within two
+  /// rings of points) that a shock cell's mean |grad p| must reach. Keeps the
+  /// shock cells at the core of a captured shock, for weak and strong shocks
+  /// alike, and drops crossings in its tails. Default 0.5; 0 disables.
+  vtkSetClampMacro(LocalPeakFraction, double, 0.0, 1.0);
+  vtkGetMacro(LocalPeakFraction, double);
+  ///@}
+
+  ///@{
   /// Keep only compressions (V . grad p > 0). Default on.
   vtkSetMacro(CompressionOnly, bool);
   vtkGetMacro(CompressionOnly, bool);
@@ -132,6 +149,7 @@ private:
   double Gamma = 1.4;
   double GasConstant = 287.05;
   double PressureGradientThreshold = 0.05;
+  double LocalPeakFraction = 0.5;
   bool CompressionOnly = true;
   double UpstreamMachRange[2] = { 1.0, 1.0e6 };
 };

@@ -200,16 +200,16 @@ INSTANTIATE_TEST_SUITE_P(AllLinearCells, LinearFieldOnCellType,
 //------------------------------------------------------------------------------
 TEST(ShockSensor, ShockCellsStraddleUnityAndFiltersApply)
 {
-  // Normal Mach number rising linearly along x through 1 at x = 0.5 (set by a
-  // velocity that grows with x in a linear pressure field): only the cells
-  // with vertices on both sides of x = 0.5 are shock cells.
+  // Normal Mach number falling linearly along x through 1 at x = 0.5 while
+  // the pressure rises (a compression, as in a shock): only the cells with
+  // vertices on both sides of x = 0.55 are shock cells.
   auto grid = MakeGrid(8, VTK_HEXAHEDRON);
   const double gp = 1000.0;
   PointField(grid, "p", 1, [&](const double* x, double* v) { v[0] = 1e5 + gp * x[0]; });
   PointField(grid, "rho", 1, [&](const double*, double* v) { v[0] = 1.2; });
   PointField(grid, "U", 3, [&](const double* x, double* v) {
     const double a = std::sqrt(1.4 * (1e5 + gp * x[0]) / 1.2);
-    v[0] = a * (0.6 + 0.8 * x[0]); // Mn = 0.6 + 0.8 x: equals 1 at x = 0.5
+    v[0] = a * (1.44 - 0.8 * x[0]); // Mn = 1.44 - 0.8 x: equals 1 at x = 0.55
     v[1] = 0.0;
     v[2] = 0.0;
   });
@@ -225,13 +225,29 @@ TEST(ShockSensor, ShockCellsStraddleUnityAndFiltersApply)
   {
     double b[6];
     grid->GetCell(c)->GetBounds(b);
-    // Mn = 1 exactly at x = 0.5, which is a grid plane: cells touching it on
-    // either side straddle (one vertex equals 1, the others are above or below).
-    const bool expected = b[0] <= 0.5 + 1e-12 && b[1] >= 0.5 - 1e-12;
+    // Mn = 1 at x = 0.55, inside the layer of cells 0.5 < x < 0.625.
+    const bool expected = b[0] < 0.55 && b[1] > 0.55;
     EXPECT_EQ(sc->GetValue(c) != 0, expected) << "cell " << c;
     count += sc->GetValue(c);
   }
-  EXPECT_EQ(count, 2 * 64);
+  EXPECT_EQ(count, 64);
+
+  // Mn rising where p rises is not a shock: no cell.
+  {
+    auto rising = MakeGrid(8, VTK_HEXAHEDRON);
+    PointField(rising, "p", 1, [&](const double* x, double* v) { v[0] = 1e5 + gp * x[0]; });
+    PointField(rising, "rho", 1, [&](const double*, double* v) { v[0] = 1.2; });
+    PointField(rising, "U", 3, [&](const double* x, double* v) {
+      v[0] = std::sqrt(1.4 * (1e5 + gp * x[0]) / 1.2) * (0.6 + 0.8 * x[0]);
+      v[1] = v[2] = 0.0;
+    });
+    vtkNew<vtkShockSensor> s2;
+    s2->SetInputData(rising);
+    SelectPrimitive(s2);
+    s2->SetUpstreamMachRange(0.0, 10.0);
+    s2->Update();
+    EXPECT_EQ(s2->GetOutput()->GetCellData()->GetArray("ShockCells")->GetRange()[1], 0.0);
+  }
 
   // The upstream-Mach window: the local Mach number of this flow is at most
   // 1.4, so a window [5, 10] removes every cell.

@@ -297,10 +297,8 @@ int vtkShockSensor::RequestData(
   this->UpdateProgress(0.7);
 
   // ---- Point quantities: Mn, |grad p|, V.grad p, local Mach.
-  vtkNew<vtkDoubleArray> normalMach;
-  normalMach->SetName("NormalMach");
-  normalMach->SetNumberOfTuples(npts);
-  double* mn = normalMach->GetPointer(0);
+  std::vector<double> rawMach(npts);
+  double* mn = rawMach.data();
   std::vector<double> pointInfo(3 * static_cast<size_t>(npts)); // |grad p|, V.grad p, Mach
   vtkSMPThreadLocal<double> localMax(0.0);
   vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
@@ -329,6 +327,23 @@ int vtkShockSensor::RequestData(
     gradMax = std::max(gradMax, m);
   }
   vtkARMeshKernels::AllReduceMax(&gradMax, 1);
+
+  // The output Mn is 0 where |grad p| is below the threshold: there the
+  // direction of grad p, and Mn with it, is noise (round-off in a uniform
+  // stream), which would only clutter contours and clusters of NormalMach.
+  vtkNew<vtkDoubleArray> normalMach;
+  normalMach->SetName("NormalMach");
+  normalMach->SetNumberOfTuples(npts);
+  {
+    double* outMn = normalMach->GetPointer(0);
+    const double limit = this->PressureGradientThreshold * gradMax;
+    vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType p = b; p < e; ++p)
+      {
+        outMn[p] = pointInfo[3 * static_cast<size_t>(p)] >= limit ? mn[p] : 0.0;
+      }
+    });
+  }
 
   // ---- Local peak of |grad p|: at each point, the largest |grad p| over
   // the points of the cells around it (its two-ring).

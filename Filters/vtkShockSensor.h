@@ -23,7 +23,10 @@
  * 1 Pressure, 2 Density, 3 Temperature, 4 Momentum, 5 TotalEnergy.
  *
  * Output: the input, shallow-copied, plus the point array "NormalMach" and
- * the cell array "ShockCells" (unsigned char, 1 or 0). A cell is a shock cell
+ * the cell array "ShockCells" (unsigned char, 1 or 0). NormalMach is set to 0
+ * where |grad p| is below PressureGradientThreshold times its global maximum:
+ * there the direction of grad p, and so Mn, is noise (round-off in a uniform
+ * stream) that would clutter contours and clusters of Mn. A cell is a shock cell
  * when the iso-surface Mn = 1 crosses it (one of its edges has ends on either
  * side of 1; as a cell's edges connect all its points this is min Mn < 1 <=
  * max Mn over the points), Mn falls where p rises across it (grad Mn . grad p
@@ -32,7 +35,7 @@
  * - PressureGradientThreshold (default 0.05): the mean |grad p| over the
  *   cell's points is at least this fraction of the global maximum of
  *   |grad p|. Where p is nearly uniform the direction of grad p is noise and
- *   so is Mn; 0 disables the filter.
+ *   so is Mn; 0 disables the filter (and the masking of NormalMach).
  * - LocalPeakFraction (default 0.5): the mean |grad p| over the cell's
  *   points is at least this fraction of the largest |grad p| within two rings
  *   of points around it. A captured shock is 2-3 cells thick; in its tails

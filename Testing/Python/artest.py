@@ -32,16 +32,23 @@ def load_plugin(namespace):
     LoadPlugin(PLUGIN, remote=False, ns=namespace)
 
 
+def say(text):
+    """Prints to the real stdout (pvpython routes print() through VTK's output
+    window, which a test may capture)."""
+    sys.__stdout__.write(text + "\n")
+    sys.__stdout__.flush()
+
+
 def check(condition, message):
     _checks[0] += 1
     status = "ok  " if condition else "FAIL"
-    print("%s %s" % (status, message))
+    say("%s %s" % (status, message))
     if not condition:
         _failures.append(message)
 
 
 def finish():
-    print("%d checks, %d failed" % (_checks[0], len(_failures)))
+    say("%d checks, %d failed" % (_checks[0], len(_failures)))
     sys.exit(1 if _failures or _checks[0] == 0 else 0)
 
 

@@ -114,31 +114,41 @@ bool vtkARMeshKernels::MeshView::Build(vtkUnstructuredGrid* grid, std::string& e
 //------------------------------------------------------------------------------
 vtkARMeshKernels::CellCensus vtkARMeshKernels::Census(const MeshView& mesh)
 {
-  CellCensus census;
-  for (vtkIdType c = 0; c < mesh.NumberOfCells; ++c)
-  {
-    const unsigned char t = mesh.Types[c];
-    if (mesh.IsVolumeCell(c))
+  vtkSMPThreadLocal<CellCensus> local;
+  vtkSMPTools::For(0, mesh.NumberOfCells, [&](vtkIdType begin, vtkIdType end) {
+    CellCensus& census = local.Local();
+    for (vtkIdType c = begin; c < end; ++c)
     {
-      if (mesh.CellSize(c) > MaxCellPoints)
+      if (mesh.IsVolumeCell(c))
       {
-        ++census.TooManyPoints;
+        if (mesh.CellSize(c) > MaxCellPoints)
+        {
+          ++census.TooManyPoints;
+        }
+        else
+        {
+          ++census.VolumeCells;
+        }
+      }
+      else if (LowerDimensionalCells[mesh.Types[c]])
+      {
+        ++census.LowerDimensional;
       }
       else
       {
-        ++census.VolumeCells;
+        ++census.NonLinear;
       }
     }
-    else if (LowerDimensionalCells[t])
-    {
-      ++census.LowerDimensional;
-    }
-    else
-    {
-      ++census.NonLinear;
-    }
+  });
+  CellCensus total;
+  for (const CellCensus& part : local)
+  {
+    total.VolumeCells += part.VolumeCells;
+    total.LowerDimensional += part.LowerDimensional;
+    total.NonLinear += part.NonLinear;
+    total.TooManyPoints += part.TooManyPoints;
   }
-  return census;
+  return total;
 }
 
 //------------------------------------------------------------------------------
@@ -154,35 +164,19 @@ bool vtkARMeshKernels::GradientOperator(
   const vtkIdType* ids = mesh.CellPoints(c);
   if (n == 4)
   {
-    // Tetrahedron: the exact P1 gradient from the inverse Jacobian, whose
-    // rows are the edges x_a - x_0 (a = 1..3).
-    const double* x0 = mesh.X + 3 * ids[0];
-    Eigen::Matrix3d J;
-    for (int a = 1; a < 4; ++a)
-    {
-      const double* x = mesh.X + 3 * ids[a];
-      J.row(a - 1) << x[0] - x0[0], x[1] - x0[1], x[2] - x0[2];
-    }
-    const double det = J.determinant();
-    const double scale = J.squaredNorm();
-    if (!(std::abs(det) > 1e-9 * scale * std::sqrt(scale)))
+    // Tetrahedron: the exact P1 gradient from the inverse Jacobian.
+    double Jinv[3][3];
+    if (!TetInverseJacobian(mesh.X, ids, Jinv, measure))
     {
       return false;
     }
-    const Eigen::Matrix3d Jinv = J.inverse();
     for (int k = 0; k < 3; ++k)
     {
-      W[0][k] = 0.0;
+      W[0][k] = -(Jinv[k][0] + Jinv[k][1] + Jinv[k][2]);
+      W[1][k] = Jinv[k][0];
+      W[2][k] = Jinv[k][1];
+      W[3][k] = Jinv[k][2];
     }
-    for (int a = 1; a < 4; ++a)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        W[a][k] = Jinv(k, a - 1);
-        W[0][k] -= W[a][k];
-      }
-    }
-    measure = std::abs(det) / 6.0;
     return true;
   }
   double xc[3] = { 0.0, 0.0, 0.0 };

@@ -18,6 +18,7 @@
 #include "vtkType.h"
 
 #include <atomic>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,43 @@ public:
    * Returns false for a degenerate (flat) cell.
    */
   static bool GradientOperator(const MeshView& mesh, vtkIdType c, double W[][3], int& n, double& measure);
+
+  /**
+   * The tetrahedron case, inline for the hot loops: with J the matrix whose
+   * rows are the edges x_a - x_0 (a = 1..3), fills Jinv = J^-1 so that
+   * grad f = Jinv (f_1 - f_0, f_2 - f_0, f_3 - f_0), and the volume.
+   * Returns false for a degenerate (flat) tetrahedron.
+   */
+  static bool TetInverseJacobian(const double* X, const vtkIdType* ids, double Jinv[3][3], double& volume)
+  {
+    const double* x0 = X + 3 * ids[0];
+    const double* x1 = X + 3 * ids[1];
+    const double* x2 = X + 3 * ids[2];
+    const double* x3 = X + 3 * ids[3];
+    const double a[3] = { x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2] };
+    const double b[3] = { x2[0] - x0[0], x2[1] - x0[1], x2[2] - x0[2] };
+    const double c[3] = { x3[0] - x0[0], x3[1] - x0[1], x3[2] - x0[2] };
+    // Columns of J^-1 are (b x c, c x a, a x b) / det.
+    const double bc[3] = { b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2], b[0] * c[1] - b[1] * c[0] };
+    const double ca[3] = { c[1] * a[2] - c[2] * a[1], c[2] * a[0] - c[0] * a[2], c[0] * a[1] - c[1] * a[0] };
+    const double ab[3] = { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
+    const double det = a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2];
+    const double scale = a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + b[0] * b[0] + b[1] * b[1] +
+      b[2] * b[2] + c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    if (!(std::abs(det) > 1e-9 * scale * std::sqrt(scale)))
+    {
+      return false;
+    }
+    const double inv = 1.0 / det;
+    for (int k = 0; k < 3; ++k)
+    {
+      Jinv[k][0] = bc[k] * inv;
+      Jinv[k][1] = ca[k] * inv;
+      Jinv[k][2] = ab[k] * inv;
+    }
+    volume = std::abs(det) / 6.0;
+    return true;
+  }
 
   /**
    * Average of per-cell values at the points: each cell for which

@@ -235,6 +235,35 @@ int vtkWeightFunction::RequestData(
   // that do not take part (not a linear 3-D cell, degenerate).
   const double eps = this->Epsilon;
   auto normalizedGradients = [&](vtkIdType c, double* r) -> bool {
+    if (mesh.CellSize(c) == 4 && mesh.IsVolumeCell(c))
+    {
+      // Tetrahedra, the common case, inline: gradients from point differences.
+      const vtkIdType* ids = mesh.CellPoints(c);
+      double Jinv[3][3], volume;
+      if (!vtkARMeshKernels::TetInverseJacobian(mesh.X, ids, Jinv, volume))
+      {
+        return false;
+      }
+      const double* q0 = &Q[static_cast<size_t>(ids[0]) * nq];
+      const double* q1 = &Q[static_cast<size_t>(ids[1]) * nq];
+      const double* q2 = &Q[static_cast<size_t>(ids[2]) * nq];
+      const double* q3 = &Q[static_cast<size_t>(ids[3]) * nq];
+      for (int i = 0; i < nq; ++i)
+      {
+        const double d1 = q1[i] - q0[i], d2 = q2[i] - q0[i], d3 = q3[i] - q0[i];
+        double mean = 0.25 * (q0[i] + q1[i] + q2[i] + q3[i]);
+        if (cellIndexOfColumn[i] >= 0)
+        {
+          mean = cellValues[static_cast<size_t>(c) * nqc + cellIndexOfColumn[i]];
+        }
+        const double inv = 1.0 / (std::abs(mean) + eps);
+        for (int k = 0; k < 3; ++k)
+        {
+          r[3 * i + k] = std::abs(Jinv[k][0] * d1 + Jinv[k][1] * d2 + Jinv[k][2] * d3) * inv;
+        }
+      }
+      return true;
+    }
     double W[vtkARMeshKernels::MaxCellPoints][3];
     int n;
     double measure;

@@ -113,6 +113,16 @@ double Now()
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+/// The first three fields of /proc/loadavg: other work on the machine skews
+/// the timings (CPU/wall well below 2 on a 2-core machine is the sign).
+std::string LoadAverage()
+{
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return in ? a + " " + b + " " + c : std::string("unknown");
+}
+
 double CpuNow()
 {
   timespec ts;
@@ -683,14 +693,14 @@ int main(int argc, char* argv[])
 
   const char* env = std::getenv("VTK_SMP_BACKEND_IN_USE");
   std::printf("# BenchSensors: %ld hardware threads, VTK_SMP_BACKEND_IN_USE=%s, %s, %s numbering, "
-              "best of %d after 1 warm-up, %s\n\n",
+              "best of %d after 1 warm-up, %s, load average %s\n\n",
     sysconf(_SC_NPROCESSORS_ONLN), env ? env : "(unset)", opt.Float ? "float" : "double",
     opt.Shuffle ? "shuffled" : "structured", opt.Reps,
     opt.Fork ? "one forked process per row (own peak RSS)"
-             : "single process (peak RSS is cumulative)");
+             : "single process (peak RSS is cumulative)",
+    LoadAverage().c_str());
 
   std::vector<Row> rows;
-  std::vector<std::string> meshLines;
   for (double size : opt.Sizes)
   {
     const int n = std::max(1, static_cast<int>(std::lround(std::cbrt(size / 6.0))));
@@ -705,7 +715,6 @@ int main(int argc, char* argv[])
       static_cast<long long>(grid->GetNumberOfPoints()), t, StatusMB("VmRSS") - rss0);
     std::printf("%s\n", line);
     std::fflush(stdout);
-    meshLines.emplace_back(line);
     for (size_t b = 0; b < sizeof(Benches) / sizeof(Benches[0]); ++b)
     {
       if (!opt.Only.empty() &&
@@ -727,6 +736,7 @@ int main(int argc, char* argv[])
   {
     PrintRow(r);
   }
+  std::printf("\nload average at the end: %s\n", LoadAverage().c_str());
   if (!opt.Fork)
   {
     std::printf("\n(peak RSS is the cumulative process peak: run without --no-fork for per-row "

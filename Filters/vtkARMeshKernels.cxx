@@ -8,8 +8,11 @@
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
 #include "vtkDoubleArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkMultiProcessController.h"
 #include "vtkPoints.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -271,6 +274,59 @@ bool vtkARMeshKernels::AgreeToProceed(vtkAlgorithm* self, const std::string& pro
       "differ from a serial run. Apply 'Ghost Cells Generator' upstream.");
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkARMeshKernels::CellColumnsToPoints(const MeshView& mesh, const double* cellTable,
+  int cellStride, const std::vector<int>& cellColumns, double* pointTable, int pointStride,
+  const std::vector<int>& pointColumns, vtkAlgorithm* abortSource)
+{
+  const int nc = static_cast<int>(cellColumns.size());
+  std::vector<double> avg;
+  const bool ok = CellsToPoints(
+    mesh, nc,
+    [&](vtkIdType c, double* values, double& weight) {
+      double W[MaxCellPoints][3];
+      int n;
+      if (!mesh.IsVolumeCell(c) || !GradientOperator(mesh, c, W, n, weight))
+      {
+        return false;
+      }
+      for (int k = 0; k < nc; ++k)
+      {
+        values[k] = cellTable[static_cast<size_t>(c) * cellStride + cellColumns[k]];
+      }
+      return true;
+    },
+    avg, abortSource);
+  if (!ok)
+  {
+    return false;
+  }
+  vtkSMPTools::For(0, mesh.NumberOfPoints, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType p = b; p < e; ++p)
+    {
+      for (int k = 0; k < nc; ++k)
+      {
+        pointTable[static_cast<size_t>(p) * pointStride + pointColumns[k]] =
+          avg[static_cast<size_t>(p) * nc + k];
+      }
+    }
+  });
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkARMeshKernels::RequestOneMoreGhostLevel(
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(),
+    outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS()) + 1);
 }
 
 //------------------------------------------------------------------------------

@@ -23,6 +23,7 @@
 #include <vector>
 
 class vtkAlgorithm;
+class vtkInformationVector;
 class vtkDataArray;
 class vtkDataSetAttributes;
 class vtkUnstructuredGrid;
@@ -150,6 +151,20 @@ public:
    */
   static bool AgreeToProceed(vtkAlgorithm* self, const std::string& problem,
     const MeshView& mesh, const CellCensus& census, const char* need);
+
+  /**
+   * Averages columns of a per-cell table to the points (weighted by the cell
+   * measure, over linear 3-D cells) and writes them into columns of a
+   * per-point table: point[p * pointStride + pointColumns[k]] = average of
+   * cell[c * cellStride + cellColumns[k]]. Returns false if aborted.
+   */
+  static bool CellColumnsToPoints(const MeshView& mesh, const double* cellTable, int cellStride,
+    const std::vector<int>& cellColumns, double* pointTable, int pointStride,
+    const std::vector<int>& pointColumns, vtkAlgorithm* abortSource);
+
+  /// RequestUpdateExtent of the sensors: the downstream request plus one
+  /// ghost level (gradients at partition boundaries need the neighbours).
+  static void RequestOneMoreGhostLevel(vtkInformationVector** inputVector, vtkInformationVector* outputVector);
 
   /// MPI reductions over the global controller (no-ops in serial).
   static void AllReduceMax(double* values, int n);

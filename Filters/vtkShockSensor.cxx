@@ -9,7 +9,6 @@
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -56,14 +55,7 @@ vtkShockSensor::vtkShockSensor()
 int vtkShockSensor::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  using SDDP = vtkStreamingDemandDrivenPipeline;
-  const int ghosts = outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS());
-  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
-  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));
-  // One more level: point gradients at partition boundaries need the neighbours.
-  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), ghosts + 1);
+  vtkARMeshKernels::RequestOneMoreGhostLevel(inputVector, outputVector);
   return 1;
 }
 
@@ -183,39 +175,11 @@ int vtkShockSensor::RequestData(
   }
   this->UpdateProgress(0.1);
 
-  if (!cellColumns.empty())
+  if (!cellColumns.empty() &&
+    !vtkARMeshKernels::CellColumnsToPoints(
+      mesh, cellState.data(), NC, cellColumns, state.data(), NC, cellColumns, this))
   {
-    const int nc = static_cast<int>(cellColumns.size());
-    std::vector<double> avg;
-    const bool ok = vtkARMeshKernels::CellsToPoints(
-      mesh, nc,
-      [&](vtkIdType c, double* values, double& weight) {
-        double W[vtkARMeshKernels::MaxCellPoints][3];
-        int n;
-        if (!mesh.IsVolumeCell(c) || !vtkARMeshKernels::GradientOperator(mesh, c, W, n, weight))
-        {
-          return false;
-        }
-        for (int k = 0; k < nc; ++k)
-        {
-          values[k] = cellState[static_cast<size_t>(c) * NC + cellColumns[k]];
-        }
-        return true;
-      },
-      avg, this);
-    if (!ok)
-    {
-      return 1;
-    }
-    vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
-      for (vtkIdType p = b; p < e; ++p)
-      {
-        for (int k = 0; k < nc; ++k)
-        {
-          state[static_cast<size_t>(p) * NC + cellColumns[k]] = avg[static_cast<size_t>(p) * nc + k];
-        }
-      }
-    });
+    return 1;
   }
 
   // ---- Primitive state at the points: V (3), p, rho.

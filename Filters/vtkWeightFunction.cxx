@@ -11,7 +11,6 @@
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
@@ -69,14 +68,7 @@ void vtkWeightFunction::RemoveAllVariables()
 int vtkWeightFunction::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  using SDDP = vtkStreamingDemandDrivenPipeline;
-  const int ghosts = outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS());
-  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
-  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));
-  // One more level: gradients at partition boundaries need the neighbours.
-  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), ghosts + 1);
+  vtkARMeshKernels::RequestOneMoreGhostLevel(inputVector, outputVector);
   return 1;
 }
 
@@ -195,33 +187,16 @@ int vtkWeightFunction::RequestData(
   const int nqc = static_cast<int>(cellColumns.size());
   if (nqc > 0)
   {
-    std::vector<double> avg;
-    const bool ok = vtkARMeshKernels::CellsToPoints(
-      mesh, nqc,
-      [&](vtkIdType c, double* values, double& weight) {
-        double W[vtkARMeshKernels::MaxCellPoints][3];
-        int n;
-        if (!mesh.IsVolumeCell(c) || !vtkARMeshKernels::GradientOperator(mesh, c, W, n, weight))
-        {
-          return false;
-        }
-        std::copy_n(&cellValues[static_cast<size_t>(c) * nqc], nqc, values);
-        return true;
-      },
-      avg, this);
-    if (!ok)
+    std::vector<int> tableColumns(nqc);
+    for (int k = 0; k < nqc; ++k)
+    {
+      tableColumns[k] = k;
+    }
+    if (!vtkARMeshKernels::CellColumnsToPoints(
+          mesh, cellValues.data(), nqc, tableColumns, Q.data(), nq, cellColumns, this))
     {
       return 1;
     }
-    vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
-      for (vtkIdType p = b; p < e; ++p)
-      {
-        for (int k = 0; k < nqc; ++k)
-        {
-          Q[static_cast<size_t>(p) * nq + cellColumns[k]] = avg[static_cast<size_t>(p) * nqc + k];
-        }
-      }
-    });
   }
   // Column -> index into cellValues, or -1 for a point variable.
   std::vector<int> cellIndexOfColumn(nq, -1);

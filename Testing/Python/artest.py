@@ -52,12 +52,12 @@ def finish():
     sys.exit(1 if _failures or _checks[0] == 0 else 0)
 
 
-def fetch(proxy):
-    """The proxy's output on this process, wrapped for numpy."""
+def fetch(proxy, port=0):
+    """The proxy's output (port `port`) on this process, wrapped for numpy."""
     from paraview import servermanager
     from vtkmodules.numpy_interface import dataset_adapter as dsa
     proxy.UpdatePipeline()
-    return dsa.WrapDataObject(servermanager.Fetch(proxy))
+    return dsa.WrapDataObject(servermanager.Fetch(proxy, idx=port))
 
 
 def field(dataset, name):

@@ -372,7 +372,11 @@ int vtkFeatureCluster::RequestData(
     for (size_t i = 0; i < region.PointIds.size(); ++i)
     {
       std::copy_n(mesh.X + 3 * region.PointIds[i], 3, &region.X[3 * i]);
-      region.Seeds[i] = seeds[region.PointIds[i]];
+      // Only owned nodes seed: a ghost copy's sensor value may come from an
+      // incomplete stencil, and its owner sends the right one. (Ghost copies
+      // in range still grew the region, so that this rank's nodes next to
+      // another rank's seeds are in it.)
+      region.Seeds[i] = mesh.IsOwnedPoint(region.PointIds[i]) ? seeds[region.PointIds[i]] : 0;
     }
   }
   this->UpdateProgress(0.5);

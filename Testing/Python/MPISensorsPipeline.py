@@ -6,7 +6,7 @@
 Serial: the whole mesh. Distributed: the partitioned reader (one piece per
 rank) -> GhostCellsGenerator (built because the sensors request ghost
 levels). Both carry SerialCellId / SerialPointId from SplitIntoPieces.py. Then
-ShockSensor -> WeightFunction; every rank writes its piece with its ghost
+ShockSensor -> WeightFunction -> FeatureCluster; every rank writes its piece with its ghost
 flags, for RunMPISensors.py to compare.
 """
 import sys
@@ -25,13 +25,14 @@ if data.endswith(".pvtu"):
 else:
     upstream = XMLUnstructuredGridReader(FileName=[data])
 ss = ShockSensor(Input=upstream, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"])
-wf = WeightFunction(Input=ss, Variables=["rho", "rhoU", "rhoE"])
-wf.UpdatePipeline()
+wf = WeightFunction(Input=ss, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
+fc = FeatureCluster(Input=wf, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0], DilationRings=1)
+fc.UpdatePipeline()
 
 # Run with pvbatch --symmetric: the script runs on every rank; each writes its
 # own piece, with its ghost flags, as <output>.<rank>.vtu.
 rank = servermanager.vtkProcessModule.GetProcessModule().GetPartitionId()
-local = wf.GetClientSideObject().GetOutputDataObject(0)
+local = fc.GetClientSideObject().GetOutputDataObject(0)
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
 writer = vtkXMLUnstructuredGridWriter()
 writer.SetFileName("%s.%d.vtu" % (out_path, rank))
@@ -39,3 +40,11 @@ writer.SetInputData(local)
 writer.SetDataModeToBinary()
 writer.Write()
 print("rank %d of %d wrote %d cells" % (rank, ranks, local.GetNumberOfCells()))
+if rank == 0:
+    # FeatureCluster's medial points are produced on rank 0.
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+    medial = vtkXMLPolyDataWriter()
+    medial.SetFileName("%s.medial.vtp" % out_path)
+    medial.SetInputData(fc.GetClientSideObject().GetOutputDataObject(1))
+    medial.SetDataModeToBinary()
+    medial.Write()

@@ -51,7 +51,8 @@ for name in ("oblique_shock_unstructured.vtu", "wedge15Ma5.vtu"):
     data = artest.data(name)
     serial_out = os.path.join(artest.OUTPUT_DIR, "mpi_serial_" + name.replace(".vtu", ""))
     parallel_out = os.path.join(artest.OUTPUT_DIR, "mpi_np2_" + name.replace(".vtu", ""))
-    for f in (serial_out + ".0.vtu", parallel_out + ".0.vtu", parallel_out + ".1.vtu"):
+    for f in (serial_out + ".0.vtu", parallel_out + ".0.vtu", parallel_out + ".1.vtu",
+              serial_out + ".medial.vtp", parallel_out + ".medial.vtp"):
         if os.path.exists(f):
             os.remove(f)
     pieces = os.path.join(artest.OUTPUT_DIR, "mpi_pieces_" + name.replace(".vtu", ".pvtu"))
@@ -124,5 +125,29 @@ for name in ("oblique_shock_unstructured.vtu", "wedge15Ma5.vtu"):
     check(sel.sum() > 50 and np.allclose(a[sel], b[sel], rtol=1e-9, atol=1e-9),
           "%s: NormalMach equal within 1e-9 at the %d points of the feature region (max diff %.2e)"
           % (name, sel.sum(), np.abs(a[sel] - b[sel]).max() if sel.any() else -1))
+
+    # FeatureCluster: the point arrays at every owned point, and the medial
+    # points (gathered on rank 0) equal the serial ones.
+    for array in ("FeatureMask", "ClusterId", "BoundaryDistance", "MedialPoint"):
+        a = np.asarray(p.PointData[array])[owned_p]
+        b = np.asarray(s.PointData[array])[sorder][pids]
+        check(np.array_equal(a, b), "%s: FeatureCluster %s equal at every owned point (%d differ, %d in the mask)"
+              % (name, array, np.sum(a != b), np.asarray(s.PointData["FeatureMask"]).sum()))
+
+    def load_medial(path):
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+        from vtkmodules.numpy_interface import dataset_adapter as dsa
+        r = vtkXMLPolyDataReader()
+        r.SetFileName(path)
+        r.Update()
+        return dsa.WrapDataObject(r.GetOutput())
+
+    ms, mp = load_medial(serial_out + ".medial.vtp"), load_medial(parallel_out + ".medial.vtp")
+    same = ms.GetNumberOfPoints() == mp.GetNumberOfPoints() and ms.GetNumberOfPoints() > 0 and \
+        np.array_equal(np.asarray(ms.Points), np.asarray(mp.Points)) and \
+        all(np.array_equal(np.asarray(ms.PointData[k]), np.asarray(mp.PointData[k]))
+            for k in ("ClusterId", "LocalSize", "BoundaryDistance"))
+    check(same, "%s: the %d medial points (positions, ClusterId, LocalSize, BoundaryDistance) equal the serial ones"
+          % (name, ms.GetNumberOfPoints()))
 
 artest.finish()

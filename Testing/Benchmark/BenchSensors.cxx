@@ -8,7 +8,7 @@
 //   BenchSensors [options] [size ...]      sizes are target tet counts, default 1e5 1e6 5e6
 //     --quick          1e5 only
 //     --reps N         timed repetitions after the warm-up (best is reported), default 3
-//     --only NAME      gradient | weight | shock (repeatable); default all three
+//     --only NAME      gradient | weight | shock | cluster (repeatable); default all three
 //     --shuffle        number the points and the cells in random order (worst-case locality)
 //     --float          store coordinates and fields as float (as many readers deliver them)
 //     --no-fork        run every row in this process (for valgrind/gdb); peak memory is
@@ -41,6 +41,7 @@
 // set. Set VTK_SMP_BACKEND_IN_USE=STDThread to thread vtkGradientFilter too,
 // or =Sequential to see the sensors on one core.
 
+#include "vtkFeatureCluster.h"
 #include "vtkShockSensor.h"
 #include "vtkWeightFunction.h"
 
@@ -476,12 +477,46 @@ bool CheckShock(vtkAlgorithm* f, char* text, size_t len)
   return shock > 0 && range[0] < 1.0 && range[1] > 1.0;
 }
 
+vtkSmartPointer<vtkAlgorithm> MakeCluster(vtkUnstructuredGrid* grid)
+{
+  // The middle of the pressure jump (P1 = 0.714, P2 = 1.258): a band a few
+  // cells thick around the shock, one dilation ring.
+  auto f = vtkSmartPointer<vtkFeatureCluster>::New();
+  f->SetInputData(grid);
+  f->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "p");
+  f->SetSensorRange(0.85, 1.12);
+  f->SetDilationRings(1);
+  return f;
+}
+
+bool CheckCluster(vtkAlgorithm* f, char* text, size_t len)
+{
+  auto* out = vtkUnstructuredGrid::SafeDownCast(f->GetOutputDataObject(0));
+  auto* medial = vtkDataSet::SafeDownCast(f->GetOutputDataObject(1));
+  vtkDataArray* mask = out ? out->GetPointData()->GetArray("FeatureMask") : nullptr;
+  if (!mask || !medial)
+  {
+    std::snprintf(text, len, "no FeatureMask / medial points");
+    return false;
+  }
+  vtkIdType selected = 0;
+  for (vtkIdType i = 0; i < mask->GetNumberOfTuples(); ++i)
+  {
+    selected += mask->GetComponent(i, 0) != 0.0 ? 1 : 0;
+  }
+  std::snprintf(text, len, "%.2f%% of nodes in clusters, %lld medial points",
+    100.0 * selected / std::max<vtkIdType>(1, mask->GetNumberOfTuples()),
+    static_cast<long long>(medial->GetNumberOfPoints()));
+  return selected > 0 && medial->GetNumberOfPoints() > 0;
+}
+
 const Bench Benches[] = {
   { "vtkGradientFilter (p)", &MakeGradient, &CheckGradient },
   { "WeightFunction (5 var)", &MakeWeight, &CheckWeight },
   { "ShockSensor", &MakeShock, &CheckShock },
+  { "FeatureCluster (p band)", &MakeCluster, &CheckCluster },
 };
-const char* BenchKeys[] = { "gradient", "weight", "shock" };
+const char* BenchKeys[] = { "gradient", "weight", "shock", "cluster" };
 
 Row RunBench(const Bench& bench, vtkUnstructuredGrid* grid, int reps)
 {
@@ -616,7 +651,7 @@ void PrintRow(const Row& r)
 void Usage(const char* argv0)
 {
   std::fprintf(stderr,
-    "usage: %s [--quick] [--reps N] [--only gradient|weight|shock] [--shuffle] [--float] "
+    "usage: %s [--quick] [--reps N] [--only gradient|weight|shock|cluster] [--shuffle] [--float] "
     "[--no-fork] [size ...]\n"
     "  sizes are target tetrahedron counts (e.g. 1e5 1e6 5e6, the default)\n",
     argv0);

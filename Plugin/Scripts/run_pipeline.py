@@ -3,7 +3,8 @@
     pvbatch Plugin/Scripts/run_pipeline.py --plugin <AdaptiveRedistribution.so> \
         --data Data --output AdaptiveRedistribution-output
 
-Stage 1 (paper section 2.2), the sensors:
+Stage 1 (paper section 2.2), the sensors, and stage 2 (section 2.3), the
+feature clusters and their medial points:
 - Data/wedge15Ma5.vtu, OpenFOAM rhoCentralFoam's Mach 5 flow over a 15 degree
   wedge (hexahedra): ShockSensor (NormalMach, ShockCells) and WeightFunction
   on the conserved variables; the shock angle fitted to the shock cells is
@@ -11,8 +12,9 @@ Stage 1 (paper section 2.2), the sensors:
 - Data/oblique_shock_unstructured.vtu, an analytic 3-D oblique shock on a Gmsh
   tetrahedral mesh: the same, compared with the exact shock plane.
 
-Writes <output>/*_sensors.vtu (the meshes with the sensor arrays, for
-ParaView) and PNG pictures, and prints a summary table.
+Writes <output>/*_sensors.vtu (the meshes with the sensor and cluster
+arrays, for ParaView), *_medial.vtp (the medial points), PNG pictures, and
+prints a summary table.
 """
 import argparse
 import os
@@ -40,6 +42,12 @@ def local(proxy):
     proxy.UpdatePipeline()
     from vtkmodules.numpy_interface import dataset_adapter as dsa
     return dsa.WrapDataObject(servermanager.Fetch(proxy))
+
+
+def local_port(proxy, port):
+    proxy.UpdatePipeline()
+    from vtkmodules.numpy_interface import dataset_adapter as dsa
+    return dsa.WrapDataObject(servermanager.Fetch(proxy, idx=port))
 
 
 def centroids(grid):
@@ -113,7 +121,7 @@ sensor = ShockSensor(Input=wedge, VariableSet=2, Density=["POINTS", "rho"], Mome
                      TotalEnergy=["POINTS", "rhoE"], Gamma=gamma)
 weight = WeightFunction(Input=sensor, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
 out = local(weight)
-mesh_path = save(weight, "wedge15Ma5_sensors.vtu")
+
 shock = np.asarray(out.CellData["ShockCells"]) == 1
 c = centroids(out)
 region = shock & (c[:, 0] > 0.03) & (c[:, 0] < 0.28)
@@ -126,18 +134,45 @@ exact = shock_angle(mach, theta, gamma)
 summary.append(("wedge15Ma5 (OpenFOAM, %d hexahedra)" % out.GetNumberOfCells(), int(shock.sum()),
                 "shock angle %.2f deg (theta-beta-Mach %.2f deg)" % (fitted, exact)))
 
+clusters = FeatureCluster(Input=weight, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0],
+                          DilationRings=1)
+medial = local_port(clusters, 1)
+SaveData(os.path.join(args.output, "wedge15Ma5_medial.vtp"), proxy=OutputPort(clusters, 1),
+         DataMode="Binary", CompressorType="ZLib")
+mp = np.asarray(medial.Points)
+beyond = mp[:, 0] > 0.08  # the captured shock forms over the first cells behind the tip
+_, _, vt = np.linalg.svd(mp[beyond, :2] - mp[beyond, :2].mean(axis=0))
+direction = vt[0] if vt[0][0] > 0 else -vt[0]
+medial_angle = np.degrees(np.arctan2(direction[1], direction[0]))
+summary.append(("wedge15Ma5 medial points of W in [1.5, 2]", int(medial.GetNumberOfPoints()),
+                "%d cluster(s); line through medial points beyond x = 0.08: %.2f deg"
+                % (len(np.asarray(medial.FieldData["ClusterSizes"])), medial_angle)))
+
 shocks = Threshold(Input=weight, Scalars=["CELLS", "ShockCells"], LowerThreshold=0.5, UpperThreshold=1.5)
 top_view = lambda view: (view.ResetCamera(), setattr(view, "CameraPosition", [0.08, 0.076, 1.0]),
                          setattr(view, "CameraFocalPoint", [0.08, 0.076, 0.0]), setattr(view, "CameraViewUp", [0, 1, 0]),
                          setattr(view, "CameraParallelProjection", 1), setattr(view, "CameraParallelScale", 0.095))
+save(clusters, "wedge15Ma5_sensors.vtu")
 picture("wedge15Ma5_NormalMach.png",
         [(weight, colored("NormalMach", "POINTS", 0.0, 2.0, "Cool to Warm", "Normal Mach")),
          (shocks, shock_edges)], top_view,
         "Mach 5, 15 deg wedge (OpenFOAM): normal Mach number; shock cells outlined (fitted %.2f deg, theory %.2f deg)"
         % (fitted, exact))
+
+
+def medial_dots(display, view):
+    display.Representation = "Points"
+    display.PointSize = 6
+    display.RenderPointsAsSpheres = 1
+    display.ColorArrayName = ["POINTS", ""]
+    display.AmbientColor = [0.1, 0.9, 0.3]
+    display.DiffuseColor = [0.1, 0.9, 0.3]
+
+
 picture("wedge15Ma5_WeightFunction.png",
-        [(weight, colored("WeightFunction", "CELLS", 1.0, 2.0, "Inferno (matplotlib)", "W"))], top_view,
-        "Weight function W (Soni et al.) on the conserved variables")
+        [(weight, colored("WeightFunction", "CELLS", 1.0, 2.0, "Inferno (matplotlib)", "W")),
+         (OutputPort(clusters, 1), medial_dots)], top_view,
+        "Weight function W (Soni et al.) on the conserved variables; medial points of W in [1.5, 2] in green")
 
 # ------------------------------------------------- the analytic 3-D shock
 oblique = XMLUnstructuredGridReader(FileName=[os.path.join(args.data, "oblique_shock_unstructured.vtu")])
@@ -187,7 +222,7 @@ picture("oblique_shock_sensors.png",
         "Analytic 3-D oblique shock (M = 2.5): W on the mid-plane z = 0.5, shock cells in blue")
 
 print()
-print("| dataset | shock cells | check |")
+print("| dataset | shock cells / medial points | check |")
 print("|---|---|---|")
 for row in summary:
     print("| %s | %d | %s |" % row)

@@ -1,0 +1,803 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkQuadricFit.h"
+
+#include "ARSurfaceFit.h"
+#include "vtkARMeshKernels.h"
+
+#include "vtkAppendPolyData.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkClipPolyData.h"
+#include "vtkDataArray.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkGenericCell.h"
+#include "vtkGeometryFilter.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkImplicitPolyDataDistance.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMath.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkStaticCleanPolyData.h"
+#include "vtkStaticPointLocator.h"
+#include "vtkStringArray.h"
+#include "vtkTriangleFilter.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkQuadricFit);
+
+namespace
+{
+// Per selected point: x y z, Weight (NaN if absent), LocalSize (NaN if
+// absent), the point's id in its rank's input.
+constexpr int Stride = 6;
+
+vtkMultiProcessController* Controller()
+{
+  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
+  return (c && c->GetNumberOfProcesses() > 1) ? c : nullptr;
+}
+
+/// Concatenates every rank's `local` on rank 0 (returns `local` in serial).
+std::vector<double> GatherOnRoot(const std::vector<double>& local)
+{
+  vtkMultiProcessController* ctrl = Controller();
+  if (!ctrl)
+  {
+    return local;
+  }
+  const int np = ctrl->GetNumberOfProcesses();
+  double mine = static_cast<double>(local.size());
+  std::vector<double> counts(np, 0.0);
+  ctrl->Gather(&mine, counts.data(), 1, 0);
+  std::vector<vtkIdType> lengths(np, 0), offsets(np, 0);
+  vtkIdType total = 0;
+  for (int r = 0; r < np; ++r)
+  {
+    lengths[r] = static_cast<vtkIdType>(counts[r]);
+    offsets[r] = total;
+    total += lengths[r];
+  }
+  std::vector<double> all(ctrl->GetLocalProcessId() == 0 ? total : 0);
+  ctrl->GatherV(local.data(), all.data(), static_cast<vtkIdType>(local.size()), lengths.data(),
+    offsets.data(), 0);
+  return all;
+}
+
+/// Median of a non-empty vector (the vector is reordered).
+double Median(std::vector<double>& v)
+{
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + mid, v.end());
+  return v[mid];
+}
+
+vtkSmartPointer<vtkDoubleArray> Field(const char* name, const double* values, int n)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfTuples(n);
+  for (int i = 0; i < n; ++i)
+  {
+    a->SetValue(i, values[i]);
+  }
+  return a;
+}
+
+/// The boundary surface of this rank's piece of the domain, as triangles.
+vtkSmartPointer<vtkPolyData> BoundarySurface(vtkDataSet* domain)
+{
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  if (!domain || domain->GetNumberOfCells() == 0)
+  {
+    return surface;
+  }
+  vtkNew<vtkGeometryFilter> geometry; // drops faces between owned and ghost cells
+  geometry->SetInputData(domain);
+  vtkNew<vtkTriangleFilter> triangles;
+  triangles->SetInputConnection(geometry->GetOutputPort());
+  triangles->PassVertsOff();
+  triangles->PassLinesOff();
+  triangles->Update();
+  surface->ShallowCopy(triangles->GetOutput());
+  surface->GetPointData()->Initialize();
+  surface->GetCellData()->Initialize();
+  return surface;
+}
+
+/// Rank 0 gets the union of the ranks' boundary pieces. Faces between two
+/// pieces (distributed without ghost cells) appear once from each side:
+/// after merging coincident points they are dropped.
+vtkSmartPointer<vtkPolyData> GatherBoundary(vtkPolyData* local)
+{
+  vtkMultiProcessController* ctrl = Controller();
+  if (!ctrl)
+  {
+    return local;
+  }
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  ctrl->Gather(local, pieces, 0);
+  auto result = vtkSmartPointer<vtkPolyData>::New();
+  if (ctrl->GetLocalProcessId() != 0)
+  {
+    return result;
+  }
+  vtkNew<vtkAppendPolyData> append;
+  for (auto& piece : pieces)
+  {
+    if (auto* pd = vtkPolyData::SafeDownCast(piece))
+    {
+      append->AddInputData(pd);
+    }
+  }
+  if (append->GetNumberOfInputConnections(0) == 0)
+  {
+    return result;
+  }
+  vtkNew<vtkStaticCleanPolyData> merge;
+  merge->SetInputConnection(append->GetOutputPort());
+  merge->SetTolerance(0.0);
+  merge->Update();
+  vtkPolyData* merged = merge->GetOutput();
+  std::map<std::array<vtkIdType, 3>, int> count;
+  vtkIdType npts;
+  const vtkIdType* ids;
+  vtkCellArray* polys = merged->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    if (npts == 3)
+    {
+      std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
+      std::sort(key.begin(), key.end());
+      ++count[key];
+    }
+  }
+  vtkNew<vtkCellArray> kept;
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    if (npts != 3)
+    {
+      continue;
+    }
+    std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
+    std::sort(key.begin(), key.end());
+    if (count[key] == 1)
+    {
+      kept->InsertNextCell(3, ids);
+    }
+  }
+  result->SetPoints(merged->GetPoints());
+  result->SetPolys(kept);
+  return result;
+}
+
+/**
+ * Signed distance values at the points of a triangle mesh, for cutting it at
+ * the zero level, from `phi` (1-Lipschitz, as a signed distance is; slow far
+ * from the zero level, as a closest-point query is). Where phi(x_i) = D, every
+ * point within |D| of x_i has phi of the same sign: those points take the
+ * sign (with a value whose magnitude is a lower bound of theirs) without a
+ * query. The points of triangles whose signs differ then get exact values.
+ * Queries: about (length of the cut) / (edge length), not one per point.
+ */
+vtkSmartPointer<vtkDoubleArray> DomainDistance(
+  vtkPolyData* mesh, const std::function<double(const double*)>& phi)
+{
+  const vtkIdType n = mesh->GetNumberOfPoints();
+  auto values = vtkSmartPointer<vtkDoubleArray>::New();
+  values->SetName("DomainDistance");
+  values->SetNumberOfTuples(n);
+  if (n == 0)
+  {
+    return values;
+  }
+  std::vector<char> exact(n, 0), known(n, 0);
+  vtkNew<vtkStaticPointLocator> locator;
+  locator->SetDataSet(mesh);
+  locator->BuildLocator();
+  vtkNew<vtkIdList> nearby;
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    if (known[i])
+    {
+      continue;
+    }
+    double x[3];
+    mesh->GetPoint(i, x);
+    const double d = phi(x);
+    values->SetValue(i, d);
+    exact[i] = known[i] = 1;
+    const double r = std::abs(d);
+    if (!(r > 0.0))
+    {
+      continue;
+    }
+    locator->FindPointsWithinRadius(r, x, nearby);
+    for (vtkIdType k = 0; k < nearby->GetNumberOfIds(); ++k)
+    {
+      const vtkIdType j = nearby->GetId(k);
+      if (known[j])
+      {
+        continue;
+      }
+      double y[3];
+      mesh->GetPoint(j, y);
+      const double bound = r - std::sqrt(vtkMath::Distance2BetweenPoints(x, y));
+      if (bound > 0.0)
+      {
+        values->SetValue(j, std::copysign(bound, d));
+        known[j] = 1;
+      }
+    }
+  }
+  vtkIdType npts;
+  const vtkIdType* ids;
+  vtkCellArray* polys = mesh->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    bool below = false, above = false;
+    for (vtkIdType k = 0; k < npts; ++k)
+    {
+      const double v = values->GetValue(ids[k]);
+      below = below || v <= 0.0;
+      above = above || v > 0.0;
+    }
+    if (!(below && above))
+    {
+      continue;
+    }
+    for (vtkIdType k = 0; k < npts; ++k)
+    {
+      if (!exact[ids[k]])
+      {
+        double x[3];
+        mesh->GetPoint(ids[k], x);
+        values->SetValue(ids[k], phi(x));
+        exact[ids[k]] = 1;
+      }
+    }
+  }
+  return values;
+}
+
+/**
+ * Keeps the part of a triangle mesh where the point scalar `values` is <= 0,
+ * cut along the zero level by vtkClipPolyData. Only the triangles the level
+ * crosses go through the clip (it is the expensive step); those entirely
+ * below are kept as they are and joined to the clipped band by merging
+ * coincident points. `fixCut` may move the points of the clipped band (the
+ * triangles the level crosses) before they are joined.
+ */
+vtkSmartPointer<vtkPolyData> KeepBelowZero(vtkPolyData* mesh, vtkDoubleArray* values,
+  const std::function<void(vtkPoints*)>& fixCut)
+{
+  const double* v = values->GetPointer(0);
+  vtkNew<vtkCellArray> below, band;
+  vtkIdType npts;
+  const vtkIdType* ids;
+  vtkCellArray* polys = mesh->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    double lo = v[ids[0]], hi = lo;
+    for (vtkIdType k = 1; k < npts; ++k)
+    {
+      lo = std::min(lo, v[ids[k]]);
+      hi = std::max(hi, v[ids[k]]);
+    }
+    if (hi <= 0.0)
+    {
+      below->InsertNextCell(npts, ids);
+    }
+    else if (lo <= 0.0)
+    {
+      band->InsertNextCell(npts, ids);
+    }
+  }
+  vtkNew<vtkPolyData> inner;
+  inner->SetPoints(mesh->GetPoints());
+  inner->SetPolys(below);
+  vtkNew<vtkPolyData> crossing;
+  crossing->SetPoints(mesh->GetPoints());
+  crossing->SetPolys(band);
+  crossing->GetPointData()->SetScalars(values);
+  vtkNew<vtkClipPolyData> clip;
+  clip->SetInputData(crossing);
+  clip->SetValue(0.0);
+  clip->InsideOutOn(); // keep <= 0
+  clip->Update();
+  vtkNew<vtkPolyData> cut;
+  cut->SetPoints(clip->GetOutput()->GetPoints());
+  cut->SetPolys(clip->GetOutput()->GetPolys());
+  if (fixCut && cut->GetPoints())
+  {
+    fixCut(cut->GetPoints());
+  }
+  vtkNew<vtkAppendPolyData> append;
+  append->AddInputData(inner);
+  append->AddInputData(cut);
+  vtkNew<vtkStaticCleanPolyData> merge;
+  merge->SetInputConnection(append->GetOutputPort());
+  merge->SetTolerance(0.0);
+  merge->RemoveUnusedPointsOn();
+  merge->ConvertPolysToLinesOff();
+  merge->Update();
+  auto result = vtkSmartPointer<vtkPolyData>::New();
+  result->SetPoints(merge->GetOutput()->GetPoints());
+  result->SetPolys(merge->GetOutput()->GetPolys());
+  return result;
+}
+}
+
+//------------------------------------------------------------------------------
+vtkQuadricFit::vtkQuadricFit()
+{
+  this->SetNumberOfInputPorts(2);
+}
+
+//------------------------------------------------------------------------------
+int vtkQuadricFit::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 0)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+    return 1;
+  }
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkQuadricFit::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPointSet* input = vtkPointSet::GetData(inputVector[0], 0);
+  const bool hasDomain = this->GetNumberOfInputConnections(1) > 0;
+  vtkDataSet* domain = hasDomain ? vtkDataSet::GetData(inputVector[1], 0) : nullptr;
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  output->Initialize();
+  vtkARMeshKernels::EnsureThreadedBackend();
+  vtkMultiProcessController* ctrl = Controller();
+  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
+
+  // ---- This rank's points of the cluster (no collective call before the
+  // gathers below, so that every rank reaches them).
+  std::ostringstream problem;
+  std::vector<double> local;
+  // [0] input points, [1] has ClusterId, [2] has Weight, [3] has LocalSize,
+  // [4] largest id, [5] -(smallest id)
+  double flags[6] = { 0.0, 0.0, 0.0, 0.0, -1e300, -1e300 };
+  const vtkIdType npts = input ? input->GetNumberOfPoints() : 0;
+  flags[0] = static_cast<double>(npts);
+  if (npts > 0)
+  {
+    vtkPointData* pd = input->GetPointData();
+    vtkDataArray* ids = pd->GetArray("ClusterId");
+    vtkDataArray* weight = pd->GetArray("Weight");
+    vtkDataArray* size = pd->GetArray("LocalSize");
+    for (vtkDataArray* a : { ids, weight, size })
+    {
+      if (a && a->GetNumberOfComponents() != 1)
+      {
+        problem << "The point array '" << a->GetName() << "' has " << a->GetNumberOfComponents()
+                << " components; it needs 1. ";
+      }
+    }
+    flags[1] = ids ? 1.0 : 0.0;
+    flags[2] = weight ? 1.0 : 0.0;
+    flags[3] = size ? 1.0 : 0.0;
+    if (problem.str().empty() && (ids || this->ClusterId < 0))
+    {
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      vtkUnsignedCharArray* ghosts = input->GetPointGhostArray();
+      for (vtkIdType p = 0; p < npts; ++p)
+      {
+        if (ghosts && (ghosts->GetValue(p) & vtkDataSetAttributes::DUPLICATEPOINT))
+        {
+          continue; // another rank's point
+        }
+        if (ids)
+        {
+          const double id = ids->GetComponent(p, 0);
+          flags[4] = std::max(flags[4], id);
+          flags[5] = std::max(flags[5], -id);
+          if (this->ClusterId >= 0 && id != this->ClusterId)
+          {
+            continue;
+          }
+        }
+        double x[3];
+        input->GetPoint(p, x);
+        local.insert(local.end(),
+          { x[0], x[1], x[2], weight ? weight->GetComponent(p, 0) : nan,
+            size ? size->GetComponent(p, 0) : nan, static_cast<double>(p) });
+      }
+    }
+  }
+  double status[7] = { flags[0], flags[1], flags[2], flags[3], flags[4], flags[5],
+    problem.str().empty() ? 0.0 : 1.0 };
+  vtkARMeshKernels::AllReduceSum(status, 1);
+  vtkARMeshKernels::AllReduceMax(status + 1, 6);
+  if (status[6] > 0.0)
+  {
+    if (!problem.str().empty())
+    {
+      vtkErrorMacro(<< problem.str() << "The output is empty.");
+    }
+    return 1;
+  }
+  const std::vector<double> packed = GatherOnRoot(local);
+  vtkSmartPointer<vtkPolyData> boundary;
+  if (hasDomain)
+  {
+    vtkSmartPointer<vtkPolyData> piece = BoundarySurface(domain);
+    boundary = GatherBoundary(piece);
+  }
+  if (!root)
+  {
+    return 1; // rank 0 fits and meshes the surface
+  }
+  this->UpdateProgress(0.1);
+
+  // ---- Validate the cluster's points.
+  const std::size_t n = packed.size() / Stride;
+  const bool haveIds = status[1] > 0.0, haveWeight = status[2] > 0.0, haveSize = status[3] > 0.0;
+  auto fail = [&](const std::string& message) {
+    vtkErrorMacro(<< message << " The output is empty.");
+    return 1;
+  };
+  if (status[0] == 0.0)
+  {
+    return fail("The input has no points.");
+  }
+  if (this->ClusterId >= 0 && !haveIds)
+  {
+    return fail("The input has no point array 'ClusterId' (the medial points of "
+                "FeatureCluster's output port 1 have it); set ClusterId to -1 to fit all points.");
+  }
+  if (n == 0)
+  {
+    std::ostringstream msg;
+    msg << "No point has ClusterId " << this->ClusterId << " (the ids present run from "
+        << -status[5] << " to " << status[4] << ").";
+    return fail(msg.str());
+  }
+  std::vector<double> xyz(3 * n), w(n), sizes;
+  for (std::size_t j = 0; j < n; ++j)
+  {
+    const double* r = &packed[Stride * j];
+    const long long id = static_cast<long long>(r[5]);
+    if (!(std::isfinite(r[0]) && std::isfinite(r[1]) && std::isfinite(r[2])))
+    {
+      return fail("Point " + std::to_string(id) + " has a NaN or infinite coordinate.");
+    }
+    std::copy(r, r + 3, &xyz[3 * j]);
+    if (haveWeight)
+    {
+      if (!(std::isfinite(r[3]) && r[3] > 0.0))
+      {
+        std::ostringstream msg;
+        msg << "The Weight of point " << id << " is " << r[3] << ": it must be positive and finite.";
+        return fail(msg.str());
+      }
+      w[j] = r[3];
+    }
+    if (haveSize)
+    {
+      if (!(std::isfinite(r[4]) && r[4] > 0.0))
+      {
+        std::ostringstream msg;
+        msg << "The LocalSize of point " << id << " is " << r[4]
+            << ": it must be positive and finite.";
+        return fail(msg.str());
+      }
+      if (!haveWeight)
+      {
+        w[j] = 1.0 / r[4];
+      }
+      sizes.push_back(r[4]);
+    }
+    if (!haveWeight && !haveSize)
+    {
+      w[j] = 1.0;
+    }
+  }
+  if (!haveWeight && !haveSize)
+  {
+    vtkWarningMacro("The input has neither a 'Weight' nor a 'LocalSize' point array: every "
+                    "point gets weight 1.");
+  }
+
+  // ---- Fit (Eq. 4, then the geometric refinement).
+  ar::SurfaceFitOptions options;
+  options.Template = static_cast<ar::SurfaceTemplate>(this->Template);
+  options.AutomaticAxis = this->UseAutomaticAxis;
+  std::copy(this->AxisOrigin, this->AxisOrigin + 3, options.AxisOrigin);
+  std::copy(this->AxisDirection, this->AxisDirection + 3, options.AxisDirection);
+  options.GeometricRefinement = this->GeometricRefinement;
+  ar::SurfaceFitResult fit;
+  std::string error;
+  if (!ar::FitSurface(xyz.data(), w.data(), n, options, fit, error))
+  {
+    return fail(error);
+  }
+  this->UpdateProgress(0.4);
+  if (this->CheckAbort())
+  {
+    return 1;
+  }
+
+  // ---- Edge length and margin.
+  double h = this->SurfaceEdgeLength;
+  if (!(h > 0.0))
+  {
+    if (!sizes.empty())
+    {
+      h = Median(sizes);
+    }
+    else if (haveWeight)
+    {
+      std::vector<double> inv(n);
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        inv[j] = 1.0 / w[j];
+      }
+      h = Median(inv);
+    }
+    else
+    {
+      double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+      double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          lo[k] = std::min(lo[k], xyz[3 * j + k]);
+          hi[k] = std::max(hi[k], xyz[3 * j + k]);
+        }
+      }
+      h = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+            (hi[2] - lo[2]) * (hi[2] - lo[2])) / 50.0;
+      vtkWarningMacro(<< "Without LocalSize or Weight the automatic edge length is 1/50 of the "
+                         "cluster's diagonal: "
+                      << h << ". Set SurfaceEdgeLength.");
+    }
+  }
+  const double reach = std::max(1.0, this->Margin) * h;
+
+  // ---- Mesh the surface around the cluster.
+  ar::SurfaceMesh mesh;
+  if (!ar::TessellateSurface(fit, xyz.data(), n, h, reach, mesh, error))
+  {
+    return fail(error);
+  }
+  const vtkIdType nmesh = static_cast<vtkIdType>(mesh.Points.size() / 3);
+  const vtkIdType ntri = static_cast<vtkIdType>(mesh.Triangles.size() / 3);
+  vtkNew<vtkPolyData> surface;
+  {
+    vtkNew<vtkDoubleArray> coords;
+    coords->SetNumberOfComponents(3);
+    coords->SetNumberOfTuples(nmesh);
+    std::copy(mesh.Points.begin(), mesh.Points.end(), coords->GetPointer(0));
+    vtkNew<vtkPoints> points;
+    points->SetData(coords);
+    vtkNew<vtkIdTypeArray> offsets, connectivity;
+    offsets->SetNumberOfTuples(ntri + 1);
+    connectivity->SetNumberOfTuples(3 * ntri);
+    for (vtkIdType t = 0; t <= ntri; ++t)
+    {
+      offsets->SetValue(t, 3 * t);
+    }
+    std::copy(mesh.Triangles.begin(), mesh.Triangles.end(), connectivity->GetPointer(0));
+    vtkNew<vtkCellArray> triangles;
+    triangles->SetData(offsets, connectivity);
+    surface->SetPoints(points);
+    surface->SetPolys(triangles);
+  }
+  this->UpdateProgress(0.6);
+
+  // ---- Trim to the cluster: keep what lies within `reach` of a foot.
+  vtkSmartPointer<vtkPolyData> trimmed;
+  {
+    vtkNew<vtkDoubleArray> feet;
+    feet->SetNumberOfComponents(3);
+    feet->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      ar::ProjectOntoSurface(fit, &xyz[3 * j], feet->GetPointer(3 * j));
+    }
+    vtkNew<vtkPoints> footPoints;
+    footPoints->SetData(feet);
+    vtkNew<vtkPolyData> footSet;
+    footSet->SetPoints(footPoints);
+    vtkNew<vtkStaticPointLocator> locator;
+    locator->SetDataSet(footSet);
+    locator->BuildLocator();
+    vtkNew<vtkDoubleArray> beyond;
+    beyond->SetName("DistanceBeyondMargin");
+    beyond->SetNumberOfTuples(nmesh);
+    const double* X = mesh.Points.data();
+    double* out = beyond->GetPointer(0);
+    vtkSMPTools::For(0, nmesh, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType p = b; p < e; ++p)
+      {
+        double x[3] = { X[3 * p], X[3 * p + 1], X[3 * p + 2] };
+        const vtkIdType q = locator->FindClosestPoint(x);
+        const double* f = feet->GetPointer(3 * q);
+        out[p] = std::sqrt(vtkMath::Distance2BetweenPoints(x, f)) - reach;
+      }
+    });
+    // The cut's new points lie on chords of a curved surface: they go back
+    // onto it (the band's other points are on it already and do not move).
+    trimmed = KeepBelowZero(surface, beyond, [&](vtkPoints* band) {
+      if (fit.Template == ar::SurfaceTemplate::Plane)
+      {
+        return;
+      }
+      vtkNew<vtkDoubleArray> projected;
+      projected->SetNumberOfComponents(3);
+      projected->SetNumberOfTuples(band->GetNumberOfPoints());
+      vtkSMPTools::For(0, band->GetNumberOfPoints(), [&](vtkIdType b, vtkIdType e) {
+        for (vtkIdType p = b; p < e; ++p)
+        {
+          double x[3];
+          band->GetPoint(p, x);
+          ar::ProjectOntoSurface(fit, x, projected->GetPointer(3 * p));
+        }
+      });
+      band->SetData(projected);
+    });
+  }
+  this->UpdateProgress(0.8);
+  if (this->CheckAbort())
+  {
+    return 1;
+  }
+
+  // ---- Trim to the domain.
+  if (hasDomain)
+  {
+    if (!boundary || boundary->GetNumberOfPolys() == 0)
+    {
+      return fail("The Domain input is empty or has no boundary surface (it needs 3-D cells, or "
+                  "2-D cells enclosing a volume).");
+    }
+    vtkNew<vtkImplicitPolyDataDistance> distance;
+    distance->SetInput(boundary);
+    // The boundary's faces point out of volume cells that have positive
+    // volume; check on a few cell centres which side is inside.
+    int inside = 0, outside = 0;
+    if (domain)
+    {
+      vtkNew<vtkGenericCell> cell;
+      const vtkIdType nc = domain->GetNumberOfCells();
+      const vtkIdType samples = std::min<vtkIdType>(nc, 25);
+      for (vtkIdType s = 0; s < samples; ++s)
+      {
+        const vtkIdType c = s * nc / samples;
+        domain->GetCell(c, cell);
+        if (cell->GetCellDimension() != 3)
+        {
+          continue;
+        }
+        double pc[3], x[3];
+        int sub = cell->GetParametricCenter(pc);
+        std::vector<double> weights(std::max<vtkIdType>(cell->GetNumberOfPoints(), VTK_CELL_SIZE));
+        cell->EvaluateLocation(sub, pc, x, weights.data());
+        const double v = distance->EvaluateFunction(x);
+        inside += v < 0.0 ? 1 : 0;
+        outside += v > 0.0 ? 1 : 0;
+      }
+    }
+    // Signed distances, negative inside, in double precision (vtkClipPolyData
+    // would store its clip function's values as floats, an error of ~1e-7 of
+    // the distance).
+    const double sign = outside > inside ? -1.0 : 1.0;
+    vtkSmartPointer<vtkDoubleArray> signedDistance =
+      DomainDistance(trimmed, [&](const double x[3]) {
+        double p[3] = { x[0], x[1], x[2] };
+        return sign * distance->EvaluateFunction(p);
+      });
+    // The cut is exact where the boundary is flat and inside it where the
+    // domain is convex; a point the linear cut leaves outside (near a curved
+    // or concave part of the boundary) is moved onto the boundary.
+    trimmed = KeepBelowZero(trimmed, signedDistance, [&](vtkPoints* band) {
+      for (vtkIdType p = 0; p < band->GetNumberOfPoints(); ++p)
+      {
+        double x[3], closest[3];
+        band->GetPoint(p, x);
+        if (sign * distance->EvaluateFunctionAndGetClosestPoint(x, closest) > 0.0)
+        {
+          band->SetPoint(p, closest);
+        }
+      }
+    });
+    if (trimmed->GetNumberOfPolys() == 0)
+    {
+      return fail("The fitted surface lies entirely outside the Domain.");
+    }
+  }
+
+  output->ShallowCopy(trimmed);
+  output->GetPointData()->Initialize();
+  output->GetCellData()->Initialize();
+
+  // ---- Field data.
+  vtkFieldData* fd = output->GetFieldData();
+  fd->Initialize();
+  vtkNew<vtkStringArray> name;
+  name->SetName("Template");
+  name->InsertNextValue(ar::SurfaceTemplateName(fit.Template));
+  fd->AddArray(name);
+  fd->AddArray(Field("Coefficients", fit.Coefficients.data(), static_cast<int>(fit.Coefficients.size())));
+  fd->AddArray(Field("RMSResidual", &fit.RMSResidual, 1));
+  fd->AddArray(Field("WeightedRMSResidual", &fit.WeightedRMSResidual, 1));
+  const double count = static_cast<double>(n);
+  fd->AddArray(Field("NumberOfFitPoints", &count, 1));
+  fd->AddArray(Field("SurfaceEdgeLength", &h, 1));
+  fd->AddArray(Field("FrameOrigin", fit.FrameOrigin, 3));
+  double axes[9];
+  std::copy(fit.FrameX, fit.FrameX + 3, axes);
+  std::copy(fit.FrameY, fit.FrameY + 3, axes + 3);
+  std::copy(fit.FrameZ, fit.FrameZ + 3, axes + 6);
+  auto frameAxes = Field("FrameAxes", axes, 9);
+  frameAxes->SetNumberOfComponents(3);
+  frameAxes->SetNumberOfTuples(3);
+  for (int i = 0; i < 9; ++i)
+  {
+    frameAxes->SetValue(i, axes[i]);
+  }
+  fd->AddArray(frameAxes);
+  if (fit.Template == ar::SurfaceTemplate::Plane)
+  {
+    fd->AddArray(Field("Normal", fit.Normal, 3));
+    fd->AddArray(Field("Origin", fit.Origin, 3));
+  }
+  else if (fit.Template == ar::SurfaceTemplate::Cone)
+  {
+    fd->AddArray(Field("Apex", fit.Apex, 3));
+    fd->AddArray(Field("AxisDirection", fit.AxisDirection, 3));
+    fd->AddArray(Field("HalfAngle", &fit.HalfAngleDegrees, 1));
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkQuadricFit::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  static const char* names[] = { "Plane", "Quadric", "Cone", "Quartic" };
+  os << indent << "Template: " << names[this->Template] << "\n";
+  os << indent << "ClusterId: " << this->ClusterId << "\n";
+  os << indent << "AxisOrigin: " << this->AxisOrigin[0] << " " << this->AxisOrigin[1] << " "
+     << this->AxisOrigin[2] << "\n";
+  os << indent << "AxisDirection: " << this->AxisDirection[0] << " " << this->AxisDirection[1]
+     << " " << this->AxisDirection[2] << "\n";
+  os << indent << "UseAutomaticAxis: " << this->UseAutomaticAxis << "\n";
+  os << indent << "GeometricRefinement: " << this->GeometricRefinement << "\n";
+  os << indent << "SurfaceEdgeLength: " << this->SurfaceEdgeLength << "\n";
+  os << indent << "Margin: " << this->Margin << "\n";
+}

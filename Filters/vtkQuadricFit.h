@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class vtkQuadricFit
+ * @brief A feature surface fitted to one cluster's medial points and meshed (Ito et al., Eq. 4).
+ *
+ * The paper's mathematical-representation approach (section 2.3): the medial
+ * points of one feature cluster (vtkFeatureCluster's output port 1) are
+ * fitted to a template surface by weighted least squares, each point weighted
+ * by 1 / l_j, its local mesh size (Eq. 4), and the fitted surface is meshed
+ * with nearly equilateral triangles and trimmed to the cluster and to the
+ * computational domain.
+ *
+ * Input port 0: points (any vtkPointSet, usually vtkPolyData vertices) with
+ * the point arrays
+ * - `ClusterId` (any numeric type, 1 component): the points whose id equals
+ *   ClusterId are fitted (ClusterId -1: all points; the array may then be
+ *   missing);
+ * - `Weight` (1 / l_j) or, when it is missing, `LocalSize` (l_j, weight
+ *   1 / l_j); with neither, all weights are 1 (a warning says so).
+ * Input port 1, "Domain" (optional): any vtkDataSet, usually the volume mesh.
+ * Its boundary surface (vtkGeometryFilter) trims the output: nothing of the
+ * surface lies outside the domain.
+ *
+ * Templates (Template): PLANE, QUADRIC (z = f(x, y), degree 2), CONE (apex,
+ * axis, half-angle) and QUARTIC (z = f(x, y), degree 4). z runs along the
+ * axis: AxisOrigin + AxisDirection when UseAutomaticAxis is off, otherwise
+ * the points' smallest weighted principal direction (plane, quadric,
+ * quartic) or, for the cone, the axis of the best cone fitted by orthogonal
+ * distances from starts given by the axes of a general quadric through the
+ * points (see ARSurfaceFit.h for the details). Eq. 4 (vertical offsets
+ * z - f) gives the first answer; GeometricRefinement (default on) then
+ * minimizes the weighted true point-to-surface distances (Levenberg-Marquardt;
+ * for the plane the exact weighted principal-direction solution), which is
+ * what a thick or steep point band needs.
+ *
+ * The surface mesh: triangles of edge SurfaceEdgeLength (0, the default:
+ * the median LocalSize of the cluster's points; without LocalSize the median
+ * of 1 / Weight) on an equilateral grid in the axis frame mapped onto the
+ * surface (plane, quadric, quartic), or on rings along the cone's
+ * generators. A surface point is kept if it lies within Margin edge lengths
+ * (at least one) of the foot of a cluster point on the surface (its
+ * orthogonal projection): the cut follows the cluster's outline at that
+ * distance (vtkClipPolyData of the distance field). With a Domain, the
+ * surface is then clipped by vtkImplicitPolyDataDistance of the domain's
+ * boundary, which cuts exactly where the boundary is flat and never outside
+ * a convex domain.
+ *
+ * Output: the triangulated surface, with field data
+ * - `Template` (string), `Coefficients` (plane: a b c d of a x + b y + c z + d = 0;
+ *   quadric 6 and quartic 15: z = f(x, y) in the frame, monomials
+ *   1, x, y, x^2, xy, y^2, x^3, x^2 y, x y^2, y^3, x^4, x^3 y, x^2 y^2, x y^3, y^4;
+ *   cone: apex (3), axis (3), half-angle in degrees), `FrameOrigin` (3) and
+ *   `FrameAxes` (3 x 3, the frame's x, y, z as rows) in which the
+ *   coefficients hold, `RMSResidual` (root mean square orthogonal distance
+ *   of the fitted points from the surface), `WeightedRMSResidual`,
+ *   `NumberOfFitPoints`, `SurfaceEdgeLength` (the length used);
+ * - plane: `Normal`, `Origin`; cone: `Apex`, `AxisDirection`, `HalfAngle`
+ *   (degrees).
+ *
+ * Several clusters: one filter per cluster id. In pvpython:
+ * @code
+ * cluster = FeatureCluster(Input=sensor, ...)
+ * ids = set(servermanager.Fetch(OutputPort(cluster, 1)).GetPointData().GetArray("ClusterId"))
+ * surfaces = [QuadricFit(Input=OutputPort(cluster, 1), Domain=sensor, ClusterId=int(i),
+ *                        Template='Cone') for i in sorted(ids)]
+ * @endcode
+ *
+ * Errors (output empty, vtkErrorMacro naming the problem): no points, no
+ * `ClusterId` array, no point with that id, NaN/Inf coordinates, a weight or
+ * local size that is not positive and finite, fewer points than the template
+ * needs (3, 6, 6 (cone; 10 with the automatic axis), 15), a zero
+ * AxisDirection, collinear points, coplanar points for a cone, a singular
+ * system, no cone found, an empty Domain, a surface that lies entirely
+ * outside the domain, a mesh that would be too large (over 4 million
+ * triangles).
+ *
+ * Under MPI the cluster's points are gathered on rank 0, which fits and
+ * meshes the surface (the other ranks' outputs are empty); each rank's part
+ * of the domain boundary is gathered too (faces between pieces, which appear
+ * twice, are dropped).
+ *
+ * @sa vtkFeatureCluster
+ */
+#ifndef vtkQuadricFit_h
+#define vtkQuadricFit_h
+
+#include "AdaptiveRedistributionFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkQuadricFit : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkQuadricFit* New();
+  vtkTypeMacro(vtkQuadricFit, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum Templates
+  {
+    PLANE = 0,
+    QUADRIC = 1,
+    CONE = 2,
+    QUARTIC = 3
+  };
+
+  /// The domain to trim the surface to (input port 1, optional).
+  void SetDomainConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+  void SetDomainData(vtkDataObject* data) { this->SetInputData(1, data); }
+
+  ///@{
+  /// The template surface. Default PLANE.
+  vtkSetClampMacro(Template, int, PLANE, QUARTIC);
+  vtkGetMacro(Template, int);
+  ///@}
+
+  ///@{
+  /// The cluster to fit (points whose ClusterId equals it); -1 fits all
+  /// points. Default 0.
+  vtkSetClampMacro(ClusterId, int, -1, VTK_INT_MAX);
+  vtkGetMacro(ClusterId, int);
+  ///@}
+
+  ///@{
+  /// The axis (z of the fit's frame) when UseAutomaticAxis is off: a point on
+  /// it and its direction (need not be unit, must not be zero). For the cone,
+  /// an approximate cone axis. Defaults (0, 0, 0) and (0, 0, 1).
+  vtkSetVector3Macro(AxisOrigin, double);
+  vtkGetVector3Macro(AxisOrigin, double);
+  vtkSetVector3Macro(AxisDirection, double);
+  vtkGetVector3Macro(AxisDirection, double);
+  ///@}
+
+  ///@{
+  /// Derive the axis from the points instead of AxisOrigin/AxisDirection.
+  /// Default on.
+  vtkSetMacro(UseAutomaticAxis, bool);
+  vtkGetMacro(UseAutomaticAxis, bool);
+  vtkBooleanMacro(UseAutomaticAxis, bool);
+  ///@}
+
+  ///@{
+  /// Refine the Eq. 4 fit by minimizing the true (orthogonal) distances.
+  /// Default on.
+  vtkSetMacro(GeometricRefinement, bool);
+  vtkGetMacro(GeometricRefinement, bool);
+  vtkBooleanMacro(GeometricRefinement, bool);
+  ///@}
+
+  ///@{
+  /// Edge length of the output triangles; 0 (default) = the median LocalSize
+  /// of the cluster's points.
+  vtkSetClampMacro(SurfaceEdgeLength, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(SurfaceEdgeLength, double);
+  ///@}
+
+  ///@{
+  /// How far the surface extends beyond the cluster's points, in edge
+  /// lengths (at least 1, so that the gaps between neighbouring medial points
+  /// stay covered). Default 3.
+  vtkSetClampMacro(Margin, double, 1.0, 1.0e6);
+  vtkGetMacro(Margin, double);
+  ///@}
+
+protected:
+  vtkQuadricFit();
+  ~vtkQuadricFit() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+private:
+  vtkQuadricFit(const vtkQuadricFit&) = delete;
+  void operator=(const vtkQuadricFit&) = delete;
+
+  int Template = PLANE;
+  int ClusterId = 0;
+  double AxisOrigin[3] = { 0.0, 0.0, 0.0 };
+  double AxisDirection[3] = { 0.0, 0.0, 1.0 };
+  bool UseAutomaticAxis = true;
+  bool GeometricRefinement = true;
+  double SurfaceEdgeLength = 0.0;
+  double Margin = 3.0;
+};
+
+#endif

@@ -1,0 +1,587 @@
+// Unit tests of the template fits of the VTK-free core (ARSurfaceFit): exact
+// surfaces sampled with noise are recovered, the geometric refinement beats
+// the vertical offsets of Eq. 4 on thick or steep point bands, the surface
+// meshes are near-equilateral, and every bad input is refused with a message.
+#include "ARSurfaceFit.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+using V = std::array<double, 3>;
+
+V Add(const V& a, const V& b, double s = 1.0)
+{
+  return { a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2] };
+}
+double Dot(const V& a, const V& b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+V Cross(const V& a, const V& b)
+{
+  return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
+}
+V Unit(const V& a)
+{
+  const double n = std::sqrt(Dot(a, a));
+  return { a[0] / n, a[1] / n, a[2] / n };
+}
+double AngleDeg(const V& a, const V& b)
+{
+  const double c = std::abs(Dot(Unit(a), Unit(b)));
+  return std::acos(std::min(1.0, c)) * 180.0 / Pi;
+}
+double Distance(const V& a, const V& b)
+{
+  const V d = Add(a, b, -1.0);
+  return std::sqrt(Dot(d, d));
+}
+/// Two unit vectors completing n to a right-handed frame.
+void Perpendiculars(const V& n, V& e1, V& e2)
+{
+  const V a = std::abs(n[0]) < 0.9 ? V{ 1, 0, 0 } : V{ 0, 1, 0 };
+  e1 = Unit(Cross(n, a));
+  e2 = Cross(n, e1);
+}
+
+/// Points and weights (1 / local size) to fit.
+struct Cloud
+{
+  std::vector<double> X;
+  std::vector<double> W;
+  void Add(const V& p, double w)
+  {
+    X.insert(X.end(), p.begin(), p.end());
+    W.push_back(w);
+  }
+  std::size_t Size() const { return W.size(); }
+};
+
+ar::SurfaceFitResult Fit(const Cloud& c, ar::SurfaceTemplate t, bool refine = true,
+  const V* origin = nullptr, const V* axis = nullptr)
+{
+  ar::SurfaceFitOptions o;
+  o.Template = t;
+  o.GeometricRefinement = refine;
+  if (axis)
+  {
+    o.AutomaticAxis = false;
+    std::copy(origin->begin(), origin->end(), o.AxisOrigin);
+    std::copy(axis->begin(), axis->end(), o.AxisDirection);
+  }
+  ar::SurfaceFitResult r;
+  std::string error;
+  EXPECT_TRUE(ar::FitSurface(c.X.data(), c.W.data(), c.Size(), o, r, error)) << error;
+  return r;
+}
+
+/// The plane through o with normal n, a 2 x 2 patch, Gaussian noise sigma
+/// along n, local sizes in [0.5, 2].
+Cloud PlaneCloud(const V& o, const V& n, double sigma, int count, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), size(0.5, 2.0);
+  std::normal_distribution<double> noise(0.0, sigma);
+  V e1, e2;
+  Perpendiculars(Unit(n), e1, e2);
+  Cloud c;
+  for (int i = 0; i < count; ++i)
+  {
+    V p = Add(Add(o, e1, u(rng)), e2, u(rng));
+    c.Add(Add(p, Unit(n), noise(rng)), 1.0 / size(rng));
+  }
+  return c;
+}
+
+/// A cone (apex a, axis d, half-angle theta): s in [s0, s1] along the
+/// generators, phi in [phi0, phi1], noise along the surface normal.
+Cloud ConeCloud(const V& a, const V& d, double thetaDeg, double s0, double s1, double phi0,
+  double phi1, double sigma, int count, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> us(s0, s1), uphi(phi0, phi1), size(0.5, 2.0);
+  std::normal_distribution<double> noise(0.0, sigma);
+  const double th = thetaDeg * Pi / 180.0;
+  V e1, e2;
+  const V z = Unit(d);
+  Perpendiculars(z, e1, e2);
+  Cloud c;
+  for (int i = 0; i < count; ++i)
+  {
+    const double s = us(rng), phi = uphi(rng);
+    const V radial = Add(Add(V{ 0, 0, 0 }, e1, std::cos(phi)), e2, std::sin(phi));
+    const V g = Add(Add(V{ 0, 0, 0 }, z, std::cos(th)), radial, std::sin(th));
+    const V normal = Add(Add(V{ 0, 0, 0 }, radial, std::cos(th)), z, -std::sin(th));
+    c.Add(Add(Add(a, g, s), normal, noise(rng)), 1.0 / size(rng));
+  }
+  return c;
+}
+
+/// The frame the core builds from a user axis: x along the coordinate axis
+/// least aligned with z.
+void UserFrame(const V& axis, V& x, V& y, V& z)
+{
+  z = Unit(axis);
+  int k = 0;
+  for (int i = 1; i < 3; ++i)
+  {
+    if (std::abs(z[i]) < std::abs(z[k]))
+    {
+      k = i;
+    }
+  }
+  V e{ 0, 0, 0 };
+  e[k] = 1.0;
+  x = Unit(Add(e, z, -Dot(e, z)));
+  y = Cross(z, x);
+}
+
+double Polynomial(int degree, const std::vector<double>& c, double x, double y)
+{
+  double f = 0.0;
+  int k = 0;
+  for (int d = 0; d <= degree; ++d)
+  {
+    for (int i = d; i >= 0; --i)
+    {
+      f += c[k++] * std::pow(x, i) * std::pow(y, d - i);
+    }
+  }
+  return f;
+}
+
+/// Samples z = f(x, y) in the user frame of (origin, axis) over [-r, r]^2,
+/// noise along the surface normal (Gaussian sigma, or uniform +-band).
+Cloud GraphCloud(const V& origin, const V& axis, int degree, const std::vector<double>& c,
+  double r, double sigma, double band, int count, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-r, r), size(0.5, 2.0), thick(-band, band);
+  std::normal_distribution<double> noise(0.0, sigma);
+  V X, Y, Z;
+  UserFrame(axis, X, Y, Z);
+  Cloud cloud;
+  const double h = 1e-6;
+  for (int i = 0; i < count; ++i)
+  {
+    const double x = u(rng), y = u(rng);
+    const double f = Polynomial(degree, c, x, y);
+    const double fx = (Polynomial(degree, c, x + h, y) - Polynomial(degree, c, x - h, y)) / (2 * h);
+    const double fy = (Polynomial(degree, c, x, y + h) - Polynomial(degree, c, x, y - h)) / (2 * h);
+    const V nl = Unit(V{ -fx, -fy, 1.0 });
+    const double off = (sigma > 0.0 ? noise(rng) : 0.0) + (band > 0.0 ? thick(rng) : 0.0);
+    const V local{ x + off * nl[0], y + off * nl[1], f + off * nl[2] };
+    V p = Add(Add(Add(origin, X, local[0]), Y, local[1]), Z, local[2]);
+    cloud.Add(p, 1.0 / size(rng));
+  }
+  return cloud;
+}
+
+double MaxRelativeError(const std::vector<double>& got, const std::vector<double>& want)
+{
+  double e = 0.0;
+  for (std::size_t k = 0; k < want.size(); ++k)
+  {
+    e = std::max(e, std::abs(got[k] - want[k]) / std::abs(want[k]));
+  }
+  return e;
+}
+
+/// Smallest angle (degrees) over the triangles of a mesh.
+double MinimumAngle(const ar::SurfaceMesh& m)
+{
+  double worst = 180.0;
+  for (std::size_t t = 0; t < m.Triangles.size(); t += 3)
+  {
+    V p[3];
+    for (int c = 0; c < 3; ++c)
+    {
+      const double* x = &m.Points[3 * m.Triangles[t + c]];
+      p[c] = { x[0], x[1], x[2] };
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      const V a = Add(p[(c + 1) % 3], p[c], -1.0), b = Add(p[(c + 2) % 3], p[c], -1.0);
+      worst = std::min(worst, std::acos(Dot(Unit(a), Unit(b))) * 180.0 / Pi);
+    }
+  }
+  return worst;
+}
+
+std::string Refusal(const Cloud& c, ar::SurfaceTemplate t, bool automatic = true,
+  V axis = { 0, 0, 1 }, const double* weights = nullptr)
+{
+  ar::SurfaceFitOptions o;
+  o.Template = t;
+  o.AutomaticAxis = automatic;
+  std::copy(axis.begin(), axis.end(), o.AxisDirection);
+  ar::SurfaceFitResult r;
+  std::string error;
+  EXPECT_FALSE(ar::FitSurface(c.X.data(), weights ? weights : c.W.data(), c.Size(), o, r, error));
+  return error;
+}
+}
+
+//------------------------------------------------------------------------------
+TEST(SurfaceFit, PlaneNormalRecovered)
+{
+  const V n = Unit({ 0.3, -0.5, 0.8 }), o{ 0.2, 0.4, -0.1 };
+  const Cloud c = PlaneCloud(o, n, 0.01, 2000, 1);
+  for (bool automatic : { true, false })
+  {
+    const V axis{ 0, 0, 1 };
+    const ar::SurfaceFitResult r = automatic ? Fit(c, ar::SurfaceTemplate::Plane)
+                                             : Fit(c, ar::SurfaceTemplate::Plane, true, &o, &axis);
+    const V got{ r.Normal[0], r.Normal[1], r.Normal[2] };
+    const double angle = AngleDeg(got, n);
+    RecordProperty(automatic ? "PlaneAngleAutoDeg" : "PlaneAngleUserDeg", std::to_string(angle));
+    std::printf("plane (%s axis): normal error %.4f deg, RMS %.5f\n", automatic ? "automatic" : "user", angle, r.RMSResidual);
+    EXPECT_LT(angle, 0.2) << "normal off by " << angle << " deg";
+    EXPECT_NEAR(Dot(Add(V{ r.Origin[0], r.Origin[1], r.Origin[2] }, o, -1.0), n), 0.0, 2e-3);
+    EXPECT_NEAR(r.RMSResidual, 0.01, 1.5e-3);
+    ASSERT_EQ(r.Coefficients.size(), 4u);
+    // a x + b y + c z + d = 0 holds at the true origin.
+    EXPECT_NEAR(r.Coefficients[0] * o[0] + r.Coefficients[1] * o[1] + r.Coefficients[2] * o[2] +
+        r.Coefficients[3], 0.0, 2e-3);
+  }
+}
+
+TEST(SurfaceFit, ConeRecoveredWithAutomaticAxis)
+{
+  const V apex{ 0.1, 0.2, -0.3 }, axis = Unit({ 1.0, 0.2, 0.1 });
+  struct Case
+  {
+    const char* Name;
+    double Theta, Phi0, Phi1;
+  };
+  // A full cone, half of one (a symmetry plane), a quarter, a wide one.
+  for (const Case& k : { Case{ "full", 25.0, -Pi, Pi }, Case{ "half", 30.0, 0.0, Pi },
+         Case{ "quarter", 20.0, 0.3, 0.3 + 0.5 * Pi }, Case{ "wide", 60.0, -Pi, Pi } })
+  {
+    const Cloud c = ConeCloud(apex, axis, k.Theta, 1.0, 3.0, k.Phi0, k.Phi1, 0.005, 3000, 2);
+    const ar::SurfaceFitResult r = Fit(c, ar::SurfaceTemplate::Cone);
+    const double dTheta = std::abs(r.HalfAngleDegrees - k.Theta);
+    const double dAxis = AngleDeg({ r.AxisDirection[0], r.AxisDirection[1], r.AxisDirection[2] }, axis);
+    const double dApex = Distance({ r.Apex[0], r.Apex[1], r.Apex[2] }, apex);
+    RecordProperty(std::string("ConeHalfAngleErrorDeg_") + k.Name, std::to_string(dTheta));
+    std::printf("cone %s (%.0f deg): half-angle error %.4f deg, axis %.4f deg, apex %.5f, RMS %.5f, %d iterations\n",
+      k.Name, k.Theta, dTheta, dAxis, dApex, r.RMSResidual, r.Iterations);
+    EXPECT_LT(dTheta, 0.2) << k.Name << ": half-angle " << r.HalfAngleDegrees;
+    EXPECT_LT(dAxis, 0.3) << k.Name;
+    EXPECT_LT(dApex, 0.02) << k.Name;
+    EXPECT_GT(Dot({ r.AxisDirection[0], r.AxisDirection[1], r.AxisDirection[2] }, axis), 0.0)
+      << k.Name << ": the axis points into the nappe";
+    EXPECT_NEAR(r.RMSResidual, 0.005, 1e-3) << k.Name;
+    ASSERT_EQ(r.Coefficients.size(), 7u);
+    EXPECT_DOUBLE_EQ(r.Coefficients[6], r.HalfAngleDegrees);
+    // Eq. 4 alone, about the axis the general quadric gives: close, not as close.
+    const ar::SurfaceFitResult v = Fit(c, ar::SurfaceTemplate::Cone, false);
+    const double dThetaV = std::abs(v.HalfAngleDegrees - k.Theta);
+    std::printf("cone %s, Eq. 4 only: half-angle error %.4f deg, RMS %.5f\n", k.Name, dThetaV, v.RMSResidual);
+    EXPECT_LT(dThetaV, 1.0) << k.Name;
+    EXPECT_GE(v.RMSResidual, r.RMSResidual * (1.0 - 1e-9)) << k.Name;
+  }
+}
+
+TEST(SurfaceFit, ConeFromAnApproximateUserAxis)
+{
+  const V apex{ -0.2, 0.5, 0.5 }, axis{ 1, 0, 0 };
+  const Cloud c = ConeCloud(apex, axis, 35.0, 0.5, 1.5, -Pi, Pi, 0.003, 2000, 3);
+  // The user's axis: 6 degrees off and through a point 0.05 off the true axis.
+  const V userAxis = Unit({ 1.0, std::tan(6.0 * Pi / 180.0), 0.0 });
+  const V userOrigin{ -0.2, 0.55, 0.5 };
+  const ar::SurfaceFitResult refined = Fit(c, ar::SurfaceTemplate::Cone, true, &userOrigin, &userAxis);
+  std::printf("cone from a 6 deg-off user axis: half-angle error %.4f deg, apex %.5f\n",
+    std::abs(refined.HalfAngleDegrees - 35.0), Distance({ refined.Apex[0], refined.Apex[1], refined.Apex[2] }, apex));
+  EXPECT_LT(std::abs(refined.HalfAngleDegrees - 35.0), 0.2);
+  EXPECT_LT(AngleDeg({ refined.AxisDirection[0], refined.AxisDirection[1], refined.AxisDirection[2] }, axis), 0.3);
+  EXPECT_LT(Distance({ refined.Apex[0], refined.Apex[1], refined.Apex[2] }, apex), 0.01);
+  // Eq. 4 alone keeps the user's axis line: its residual is far larger.
+  const ar::SurfaceFitResult vertical = Fit(c, ar::SurfaceTemplate::Cone, false, &userOrigin, &userAxis);
+  EXPECT_NEAR(AngleDeg({ vertical.AxisDirection[0], vertical.AxisDirection[1], vertical.AxisDirection[2] }, userAxis), 0.0, 1e-9);
+  EXPECT_GT(vertical.RMSResidual, 5.0 * refined.RMSResidual);
+  EXPECT_FALSE(vertical.Refined);
+  EXPECT_TRUE(refined.Refined);
+}
+
+TEST(SurfaceFit, QuadricCoefficientsRecovered)
+{
+  const V origin{ 0.5, -0.2, 0.1 }, axis = Unit({ 0.2, 0.1, 1.0 });
+  const std::vector<double> c = { 0.3, 0.2, -0.1, 0.4, 0.25, -0.3 };
+  const Cloud cloud = GraphCloud(origin, axis, 2, c, 1.0, 0.001, 0.0, 3000, 4);
+  for (bool refine : { false, true })
+  {
+    const ar::SurfaceFitResult r = Fit(cloud, ar::SurfaceTemplate::Quadric, refine, &origin, &axis);
+    ASSERT_EQ(r.Coefficients.size(), 6u);
+    const double e = MaxRelativeError(r.Coefficients, c);
+    RecordProperty(refine ? "QuadricCoefficientErrorRefined" : "QuadricCoefficientErrorVertical",
+      std::to_string(e));
+    std::printf("quadric (%s): largest relative coefficient error %.5f\n", refine ? "refined" : "vertical", e);
+    EXPECT_LT(e, 0.01) << (refine ? "refined" : "vertical");
+    EXPECT_NEAR(r.RMSResidual, 0.001, 2e-4);
+  }
+}
+
+TEST(SurfaceFit, QuarticRecovered)
+{
+  const V origin{ 0, 0, 0 }, axis{ 0, 0, 1 };
+  const std::vector<double> c = { 0.1, 0.05, -0.02, 0.2, -0.1, 0.15, 0.03, -0.05, 0.02, 0.04,
+    -0.06, 0.03, 0.05, -0.02, 0.04 };
+  const Cloud cloud = GraphCloud(origin, axis, 4, c, 1.0, 0.0005, 0.0, 4000, 5);
+  const ar::SurfaceFitResult r = Fit(cloud, ar::SurfaceTemplate::Quartic, true, &origin, &axis);
+  ASSERT_EQ(r.Coefficients.size(), 15u);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < c.size(); ++k)
+  {
+    worst = std::max(worst, std::abs(r.Coefficients[k] - c[k]));
+  }
+  std::printf("quartic: largest absolute coefficient error %.5f\n", worst);
+  EXPECT_LT(worst, 0.005);
+  EXPECT_NEAR(r.RMSResidual, 0.0005, 1e-4);
+  // And with the automatic (principal) frame the surface is the same.
+  const ar::SurfaceFitResult a = Fit(cloud, ar::SurfaceTemplate::Quartic);
+  EXPECT_NEAR(a.RMSResidual, 0.0005, 1e-4);
+}
+
+TEST(SurfaceFit, RefinementBeatsVerticalOffsetsOnATiltedThickBand)
+{
+  // A plane whose normal is 50 degrees from the user's axis; the points fill
+  // a band +-0.15 thick (a coarse, thick shock region).
+  const V n = Unit({ std::sin(50.0 * Pi / 180.0), 0.0, std::cos(50.0 * Pi / 180.0) });
+  const V o{ 0, 0, 0 }, axis{ 0, 0, 1 };
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), band(-0.15, 0.15);
+  V e1, e2;
+  Perpendiculars(n, e1, e2);
+  Cloud c;
+  for (int i = 0; i < 3000; ++i)
+  {
+    c.Add(Add(Add(Add(o, e1, u(rng)), e2, u(rng)), n, band(rng)), 1.0);
+  }
+  const ar::SurfaceFitResult vertical = Fit(c, ar::SurfaceTemplate::Plane, false, &o, &axis);
+  const ar::SurfaceFitResult refined = Fit(c, ar::SurfaceTemplate::Plane, true, &o, &axis);
+  const double av = AngleDeg({ vertical.Normal[0], vertical.Normal[1], vertical.Normal[2] }, n);
+  const double ar_ = AngleDeg({ refined.Normal[0], refined.Normal[1], refined.Normal[2] }, n);
+  RecordProperty("ThickBandVerticalDeg", std::to_string(av));
+  RecordProperty("ThickBandRefinedDeg", std::to_string(ar_));
+  std::printf("tilted thick band: normal error vertical %.3f deg, refined %.3f deg\n", av, ar_);
+  EXPECT_GT(av, 1.0) << "vertical offsets should be biased on a thick tilted band";
+  EXPECT_LT(ar_, 0.3);
+  EXPECT_LT(refined.RMSResidual, vertical.RMSResidual);
+}
+
+TEST(SurfaceFit, RefinementBeatsVerticalOffsetsOnASteepQuadric)
+{
+  const V origin{ 0, 0, 0 }, axis{ 0, 0, 1 };
+  const std::vector<double> c = { 0.0, 0.0, 0.0, 0.8, 0.0, 0.8 };
+  const Cloud cloud = GraphCloud(origin, axis, 2, c, 1.5, 0.0, 0.15, 4000, 7);
+  const ar::SurfaceFitResult vertical = Fit(cloud, ar::SurfaceTemplate::Quadric, false, &origin, &axis);
+  const ar::SurfaceFitResult refined = Fit(cloud, ar::SurfaceTemplate::Quadric, true, &origin, &axis);
+  // Error of the curvature terms (x^2, y^2).
+  const double ev = std::max(std::abs(vertical.Coefficients[3] - 0.8), std::abs(vertical.Coefficients[5] - 0.8));
+  const double er = std::max(std::abs(refined.Coefficients[3] - 0.8), std::abs(refined.Coefficients[5] - 0.8));
+  RecordProperty("SteepQuadricVerticalError", std::to_string(ev));
+  RecordProperty("SteepQuadricRefinedError", std::to_string(er));
+  std::printf("steep quadric: x^2, y^2 coefficient error vertical %.4f, refined %.4f (of 0.8)\n", ev, er);
+  EXPECT_GT(ev, 0.02);
+  EXPECT_LT(er, 0.01);
+  EXPECT_LT(er, 0.25 * ev);
+  EXPECT_LT(refined.RMSResidual, vertical.RMSResidual);
+  EXPECT_GT(refined.Iterations, 0);
+}
+
+TEST(SurfaceFit, DistanceAndProjectionAgree)
+{
+  const V apex{ 0, 0, 0 }, axis{ 0, 0, 1 };
+  const Cloud cone = ConeCloud(apex, axis, 30.0, 1.0, 2.0, -Pi, Pi, 0.01, 500, 8);
+  const V origin{ 0, 0, 0 };
+  const Cloud quad = GraphCloud(origin, axis, 2, { 0.0, 0.1, 0.0, 0.5, 0.1, -0.4 }, 1.0, 0.02, 0.0, 500, 9);
+  for (const auto& item : { std::make_pair(&cone, ar::SurfaceTemplate::Cone),
+         std::make_pair(&quad, ar::SurfaceTemplate::Quadric) })
+  {
+    const ar::SurfaceFitResult r = Fit(*item.first, item.second);
+    for (std::size_t j = 0; j < item.first->Size(); j += 25)
+    {
+      const double* p = &item.first->X[3 * j];
+      double foot[3];
+      ar::ProjectOntoSurface(r, p, foot);
+      EXPECT_NEAR(ar::SurfaceDistance(r, foot), 0.0, 1e-9);
+      EXPECT_NEAR(std::abs(ar::SurfaceDistance(r, p)),
+        Distance({ p[0], p[1], p[2] }, { foot[0], foot[1], foot[2] }), 1e-9);
+    }
+  }
+}
+
+TEST(SurfaceFit, MeshesAreNearEquilateralAndCoverTheFeet)
+{
+  const V apex{ 0, 0, 0 }, axis = Unit({ 1, 1, 0 });
+  struct Case
+  {
+    const char* Name;
+    Cloud C;
+    ar::SurfaceTemplate T;
+    double MinAngle;
+  };
+  std::vector<Case> cases;
+  cases.push_back({ "plane", PlaneCloud({ 0, 0, 0 }, Unit({ 1, 2, 3 }), 0.0, 400, 10),
+    ar::SurfaceTemplate::Plane, 59.9 });
+  cases.push_back({ "cone", ConeCloud(apex, axis, 30.0, 1.0, 2.0, -Pi, Pi, 0.0, 800, 11),
+    ar::SurfaceTemplate::Cone, 35.0 });
+  cases.push_back({ "half cone", ConeCloud(apex, axis, 40.0, 1.0, 2.0, 0.0, Pi, 0.0, 800, 12),
+    ar::SurfaceTemplate::Cone, 35.0 });
+  cases.push_back({ "quadric", GraphCloud({ 0, 0, 0 }, { 0, 0, 1 }, 2, { 0, 0, 0, 0.1, 0, 0.1 }, 1.0, 0.0, 0.0, 400, 13),
+    ar::SurfaceTemplate::Quadric, 40.0 });
+  const double h = 0.05, reach = 0.1;
+  for (const Case& k : cases)
+  {
+    const ar::SurfaceFitResult r = Fit(k.C, k.T);
+    ar::SurfaceMesh mesh;
+    std::string error;
+    ASSERT_TRUE(ar::TessellateSurface(r, k.C.X.data(), k.C.Size(), h, reach, mesh, error)) << error;
+    ASSERT_GT(mesh.Triangles.size(), 0u);
+    EXPECT_GT(MinimumAngle(mesh), k.MinAngle) << k.Name;
+    // The points lie on the surface.
+    double off = 0.0;
+    for (std::size_t i = 0; i < mesh.Points.size(); i += 3)
+    {
+      off = std::max(off, std::abs(ar::SurfaceDistance(r, &mesh.Points[i])));
+    }
+    EXPECT_LT(off, 1e-9) << k.Name;
+    // Mean edge length near h.
+    double sum = 0.0;
+    for (std::size_t t = 0; t < mesh.Triangles.size(); t += 3)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        const double* a = &mesh.Points[3 * mesh.Triangles[t + c]];
+        const double* b = &mesh.Points[3 * mesh.Triangles[t + (c + 1) % 3]];
+        sum += Distance({ a[0], a[1], a[2] }, { b[0], b[1], b[2] });
+      }
+    }
+    const double mean = sum / static_cast<double>(mesh.Triangles.size());
+    EXPECT_NEAR(mean, h, 0.1 * h) << k.Name;
+    // Every point's foot, and the margin around it, is covered: a mesh
+    // point within h of the foot displaced by `reach` along the surface is
+    // hard to test in general; check the foot itself is within h of a point.
+    for (std::size_t j = 0; j < k.C.Size(); j += 7)
+    {
+      double foot[3];
+      ar::ProjectOntoSurface(r, &k.C.X[3 * j], foot);
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < mesh.Points.size(); i += 3)
+      {
+        best = std::min(best, Distance({ foot[0], foot[1], foot[2] },
+                                { mesh.Points[i], mesh.Points[i + 1], mesh.Points[i + 2] }));
+      }
+      EXPECT_LT(best, h) << k.Name;
+    }
+  }
+}
+
+TEST(SurfaceFit, ConeMeshReachesTheApex)
+{
+  const V apex{ 0, 0, 0 }, axis{ 0, 0, 1 };
+  const Cloud c = ConeCloud(apex, axis, 30.0, 0.0, 1.0, -Pi, Pi, 0.0, 600, 14);
+  const ar::SurfaceFitResult r = Fit(c, ar::SurfaceTemplate::Cone);
+  ar::SurfaceMesh mesh;
+  std::string error;
+  ASSERT_TRUE(ar::TessellateSurface(r, c.X.data(), c.Size(), 0.05, 0.1, mesh, error)) << error;
+  EXPECT_NEAR(Distance({ mesh.Points[0], mesh.Points[1], mesh.Points[2] }, apex), 0.0, 1e-6);
+  EXPECT_GT(MinimumAngle(mesh), 15.0);
+}
+
+TEST(SurfaceFit, BadInputIsRefused)
+{
+  const Cloud plane = PlaneCloud({ 0, 0, 0 }, { 0, 0, 1 }, 0.01, 50, 15);
+  auto head = [](const Cloud& c, std::size_t n) {
+    Cloud h;
+    h.X.assign(c.X.begin(), c.X.begin() + 3 * n);
+    h.W.assign(c.W.begin(), c.W.begin() + n);
+    return h;
+  };
+  EXPECT_NE(Refusal(head(plane, 2), ar::SurfaceTemplate::Plane).find("Too few points: the Plane needs at least 3"), std::string::npos);
+  EXPECT_NE(Refusal(head(plane, 5), ar::SurfaceTemplate::Quadric).find("needs at least 6"), std::string::npos);
+  EXPECT_NE(Refusal(head(plane, 14), ar::SurfaceTemplate::Quartic).find("needs at least 15"), std::string::npos);
+  EXPECT_NE(Refusal(head(plane, 5), ar::SurfaceTemplate::Cone).find("needs at least 6"), std::string::npos);
+  const Cloud cone = ConeCloud({ 0, 0, 0 }, { 0, 0, 1 }, 30.0, 1.0, 2.0, -Pi, Pi, 0.0, 40, 16);
+  EXPECT_NE(Refusal(head(cone, 8), ar::SurfaceTemplate::Cone).find("at least 10 points"), std::string::npos);
+
+  Cloud nan = plane;
+  nan.X[3 * 7 + 1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(Refusal(nan, ar::SurfaceTemplate::Plane).find("Point 7 has a NaN"), std::string::npos);
+  Cloud inf = plane;
+  inf.X[3 * 9] = std::numeric_limits<double>::infinity();
+  EXPECT_NE(Refusal(inf, ar::SurfaceTemplate::Cone).find("Point 9 has a NaN or infinite"), std::string::npos);
+  Cloud badWeight = plane;
+  badWeight.W[3] = 0.0;
+  EXPECT_NE(Refusal(badWeight, ar::SurfaceTemplate::Plane).find("weight of point 3 is 0"), std::string::npos);
+  badWeight.W[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(Refusal(badWeight, ar::SurfaceTemplate::Quadric).find("weight of point 3"), std::string::npos);
+
+  EXPECT_NE(Refusal(plane, ar::SurfaceTemplate::Plane, false, { 0, 0, 0 }).find("Degenerate axis"), std::string::npos);
+  EXPECT_NE(Refusal(plane, ar::SurfaceTemplate::Cone, false, { 0, 0, 0 }).find("Degenerate axis"), std::string::npos);
+  EXPECT_NE(Refusal(plane, ar::SurfaceTemplate::Quadric, false, { 0, std::nan(""), 1 }).find("NaN"), std::string::npos);
+
+  Cloud line;
+  for (int i = 0; i < 20; ++i)
+  {
+    line.Add({ 0.1 * i, 0.2 * i, -0.05 * i }, 1.0);
+  }
+  EXPECT_NE(Refusal(line, ar::SurfaceTemplate::Plane).find("collinear"), std::string::npos);
+  EXPECT_NE(Refusal(line, ar::SurfaceTemplate::Cone).find("collinear"), std::string::npos);
+  Cloud same;
+  for (int i = 0; i < 20; ++i)
+  {
+    same.Add({ 1, 2, 3 }, 1.0);
+  }
+  EXPECT_NE(Refusal(same, ar::SurfaceTemplate::Quadric).find("coincide"), std::string::npos);
+
+  // Exactly coplanar points (a tilted plane) cannot make a cone.
+  const Cloud flat = PlaneCloud({ 0, 0, 0 }, Unit({ 1, 1, 1 }), 0.0, 100, 17);
+  EXPECT_NE(Refusal(flat, ar::SurfaceTemplate::Cone).find("coplanar"), std::string::npos);
+  EXPECT_NE(Refusal(flat, ar::SurfaceTemplate::Cone, false, { 0, 0, 1 }).find("coplanar"), std::string::npos);
+
+  // Singular systems: points on the plane x = y, fitted along z, project
+  // onto a line of the (x, y) plane.
+  Cloud wall;
+  std::mt19937 rng(18);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 60; ++i)
+  {
+    const double t = u(rng);
+    wall.Add({ t, t, u(rng) }, 1.0);
+  }
+  EXPECT_NE(Refusal(wall, ar::SurfaceTemplate::Quadric, false, { 0, 0, 1 }).find("Singular system"), std::string::npos);
+  EXPECT_NE(Refusal(wall, ar::SurfaceTemplate::Plane, false, { 0, 0, 1 }).find("Singular system"), std::string::npos);
+  // Any axis lying in the wall: every point projects onto one line.
+  EXPECT_NE(Refusal(wall, ar::SurfaceTemplate::Quartic, false, { 1, 1, 0 }).find("Singular system"), std::string::npos);
+
+  // A cylinder (no cone about its axis: the radius does not vary).
+  Cloud cylinder;
+  for (int i = 0; i < 200; ++i)
+  {
+    const double phi = 2 * Pi * i / 200.0;
+    cylinder.Add({ std::cos(phi), std::sin(phi), (i % 10) * 0.1 }, 1.0);
+  }
+  EXPECT_NE(Refusal(cylinder, ar::SurfaceTemplate::Cone, false, { 0, 0, 1 }).find("No cone fits"), std::string::npos);
+
+  // Tessellation arguments.
+  const ar::SurfaceFitResult r = Fit(plane, ar::SurfaceTemplate::Plane);
+  ar::SurfaceMesh mesh;
+  std::string error;
+  EXPECT_FALSE(ar::TessellateSurface(r, plane.X.data(), plane.Size(), 0.0, 0.1, mesh, error));
+  EXPECT_NE(error.find("edge length"), std::string::npos);
+  EXPECT_FALSE(ar::TessellateSurface(r, plane.X.data(), plane.Size(), 1e-5, 0.1, mesh, error));
+  EXPECT_NE(error.find("too small"), std::string::npos);
+}

@@ -539,7 +539,10 @@ int vtkQuadricFit::RequestData(
   options.GeometricRefinement = this->GeometricRefinement;
   ar::SurfaceFitResult fit;
   std::string error;
-  if (!ar::FitSurface(xyz.data(), w.data(), n, options, fit, error))
+  const bool fitted = this->RobustFit
+    ? ar::FitSurfaceRobust(xyz.data(), w.data(), n, options, fit, error)
+    : ar::FitSurface(xyz.data(), w.data(), n, options, fit, error);
+  if (!fitted)
   {
     return fail(error);
   }
@@ -798,6 +801,7 @@ void vtkQuadricFit::PrintSelf(ostream& os, vtkIndent indent)
      << " " << this->AxisDirection[2] << "\n";
   os << indent << "UseAutomaticAxis: " << this->UseAutomaticAxis << "\n";
   os << indent << "GeometricRefinement: " << this->GeometricRefinement << "\n";
+  os << indent << "RobustFit: " << this->RobustFit << "\n";
   os << indent << "SurfaceEdgeLength: " << this->SurfaceEdgeLength << "\n";
   os << indent << "Margin: " << this->Margin << "\n";
 }

@@ -146,6 +146,20 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Robust fit (default on): iteratively reweighted least squares with
+   * Tukey's biweight on the orthogonal distances (scale from their median),
+   * so that medial points off the feature surface stop pulling it: where a
+   * feature band is cut by a wall, FeatureCluster's edge distance peaks on the
+   * wall and puts medial points there. On clean data the answer is that of
+   * the plain fit.
+   */
+  vtkSetMacro(RobustFit, bool);
+  vtkGetMacro(RobustFit, bool);
+  vtkBooleanMacro(RobustFit, bool);
+  ///@}
+
+  ///@{
   /// Edge length of the output triangles; 0 (default) = the median LocalSize
   /// of the cluster's points.
   vtkSetClampMacro(SurfaceEdgeLength, double, 0.0, VTK_DOUBLE_MAX);
@@ -177,6 +191,7 @@ private:
   double AxisDirection[3] = { 0.0, 0.0, 1.0 };
   bool UseAutomaticAxis = true;
   bool GeometricRefinement = true;
+  bool RobustFit = true;
   double SurfaceEdgeLength = 0.0;
   double Margin = 3.0;
 };

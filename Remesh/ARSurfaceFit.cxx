@@ -1381,3 +1381,91 @@ bool TessellateSurface(const SurfaceFitResult& fit, const double* points, std::s
   return TessellateGraph(fit, points, n, edgeLength, reach, mesh, error, maxTriangles);
 }
 }
+
+namespace ar
+{
+//------------------------------------------------------------------------------
+bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n,
+  const SurfaceFitOptions& options, SurfaceFitResult& result, std::string& error, int iterations,
+  std::vector<double>* robustWeights)
+{
+  if (!FitSurface(points, weights, n, options, result, error))
+  {
+    return false;
+  }
+  const double c = 4.685;
+  std::vector<double> multiplier(n, 1.0), w(n), d(n), absd(n);
+  const std::size_t minimum = SurfaceTemplateMinimumPoints(options.Template);
+  for (int it = 0; it < iterations; ++it)
+  {
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      d[j] = SurfaceDistance(result, points + 3 * j);
+      absd[j] = std::abs(d[j]);
+    }
+    std::nth_element(absd.begin(), absd.begin() + n / 2, absd.end());
+    const double s = 1.4826 * absd[n / 2];
+    if (!(s > 0.0))
+    {
+      break; // more than half the points on the surface: nothing to downweight
+    }
+    std::size_t kept = 0;
+    double change = 0.0;
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      const double u = d[j] / (c * s);
+      const double m = std::abs(u) < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
+      change = std::max(change, std::abs(m - multiplier[j]));
+      multiplier[j] = m;
+      w[j] = (weights ? weights[j] : 1.0) * m;
+      kept += m > 0.0 ? 1 : 0;
+    }
+    if (kept < minimum)
+    {
+      break;
+    }
+    // Zero weights are refused by FitSurface: keep only the points that count.
+    std::vector<double> p2, w2;
+    p2.reserve(3 * kept);
+    w2.reserve(kept);
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      if (w[j] > 0.0)
+      {
+        p2.insert(p2.end(), points + 3 * j, points + 3 * j + 3);
+        w2.push_back(w[j]);
+      }
+    }
+    SurfaceFitOptions next = options;
+    SurfaceFitResult refit;
+    std::string refitError;
+    if (!FitSurface(p2.data(), w2.data(), kept, next, refit, refitError))
+    {
+      break; // keep the last good fit
+    }
+    result = refit;
+    if (change < 1e-3)
+    {
+      break;
+    }
+  }
+  // Residuals over all the points.
+  double sum = 0.0, wsum = 0.0, w2sum = 0.0;
+  for (std::size_t j = 0; j < n; ++j)
+  {
+    const double dj = SurfaceDistance(result, points + 3 * j);
+    const double wj = weights ? weights[j] : 1.0;
+    sum += dj * dj;
+    wsum += wj * wj * dj * dj;
+    w2sum += wj * wj;
+  }
+  result.NumberOfPoints = n;
+  result.RMSResidual = std::sqrt(sum / static_cast<double>(n));
+  result.WeightedRMSResidual = w2sum > 0.0 ? std::sqrt(wsum / w2sum) : 0.0;
+  if (robustWeights)
+  {
+    *robustWeights = multiplier;
+  }
+  return true;
+}
+}

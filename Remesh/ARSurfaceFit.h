@@ -132,6 +132,21 @@ struct SurfaceFitResult
 bool FitSurface(const double* points, const double* weights, std::size_t n,
   const SurfaceFitOptions& options, SurfaceFitResult& result, std::string& error);
 
+/**
+ * Robust variant of FitSurface: iteratively reweighted least squares with
+ * Tukey's biweight on the orthogonal distances, w_j <- w_j (1 - (d_j / (c s))^2)^2
+ * for |d_j| < c s and 0 beyond, c = 4.685, s = 1.4826 x the median |d_j| (the
+ * normal-consistent scale), until the weights settle (at most `iterations`
+ * refits). Medial points that do not belong to the feature surface, such as
+ * those where a feature band is cut by a wall and the edge distance peaks on
+ * the wall, stop pulling the fit; on clean data the weights stay near 1 and
+ * the answer is that of FitSurface. `robustWeights`, if given, gets the final
+ * multipliers in [0, 1]. The result's residuals are over all points.
+ */
+bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n,
+  const SurfaceFitOptions& options, SurfaceFitResult& result, std::string& error,
+  int iterations = 10, std::vector<double>* robustWeights = nullptr);
+
 /// Signed orthogonal distance of p from the fitted surface (positive on the
 /// +FrameZ side of a graph surface or plane, outside a cone).
 double SurfaceDistance(const SurfaceFitResult& fit, const double p[3]);

@@ -585,3 +585,46 @@ TEST(SurfaceFit, BadInputIsRefused)
   EXPECT_FALSE(ar::TessellateSurface(r, plane.X.data(), plane.Size(), 1e-5, 0.1, mesh, error));
   EXPECT_NE(error.find("too small"), std::string::npos);
 }
+
+TEST(SurfaceFit, RobustFitIgnoresAWallCutBranch)
+{
+  // A plane with noise 0.005, plus 15% of the points on a second, tilted
+  // branch (as medial points on a wall that cuts a shock band): the plain fit
+  // is pulled off, Tukey's biweight recovers the plane and gives the branch
+  // zero weight.
+  const V n = Unit({ 0.4, -0.9, 0.1 }), o{ 0.0, 0.0, 0.0 };
+  Cloud c = PlaneCloud(o, n, 0.005, 1700, 11);
+  const V m = Unit({ 0.1, -1.0, 0.0 });
+  const Cloud branch = PlaneCloud(Add(o, n, 0.05), m, 0.002, 300, 12);
+  for (std::size_t j = 0; j < branch.Size(); ++j)
+  {
+    c.Add({ branch.X[3 * j], branch.X[3 * j + 1], branch.X[3 * j + 2] }, branch.W[j]);
+  }
+  ar::SurfaceFitOptions o2;
+  o2.Template = ar::SurfaceTemplate::Plane;
+  ar::SurfaceFitResult plain, robust;
+  std::string error;
+  ASSERT_TRUE(ar::FitSurface(c.X.data(), c.W.data(), c.Size(), o2, plain, error)) << error;
+  std::vector<double> multipliers;
+  ASSERT_TRUE(ar::FitSurfaceRobust(c.X.data(), c.W.data(), c.Size(), o2, robust, error, 10, &multipliers))
+    << error;
+  const double plainAngle = AngleDeg({ plain.Normal[0], plain.Normal[1], plain.Normal[2] }, n);
+  const double robustAngle = AngleDeg({ robust.Normal[0], robust.Normal[1], robust.Normal[2] }, n);
+  std::printf("plane with a 15%% branch: plain fit %.3f deg off, robust fit %.3f deg off\n", plainAngle, robustAngle);
+  EXPECT_GT(plainAngle, 1.0);
+  EXPECT_LT(robustAngle, 0.2);
+  ASSERT_EQ(multipliers.size(), c.Size());
+  std::size_t rejected = 0;
+  for (std::size_t j = 1700; j < c.Size(); ++j)
+  {
+    rejected += multipliers[j] < 0.1 ? 1 : 0;
+  }
+  EXPECT_GT(rejected, 250u); // most of the branch, which lies 0.05 and more off the plane
+
+  // On clean data the robust fit is the plain fit.
+  const Cloud clean = PlaneCloud(o, n, 0.005, 2000, 13);
+  ASSERT_TRUE(ar::FitSurface(clean.X.data(), clean.W.data(), clean.Size(), o2, plain, error));
+  ASSERT_TRUE(ar::FitSurfaceRobust(clean.X.data(), clean.W.data(), clean.Size(), o2, robust, error));
+  EXPECT_LT(AngleDeg({ plain.Normal[0], plain.Normal[1], plain.Normal[2] },
+              { robust.Normal[0], robust.Normal[1], robust.Normal[2] }), 0.05);
+}

@@ -4,17 +4,20 @@
         --data Data --output AdaptiveRedistribution-output
 
 Stage 1 (paper section 2.2), the sensors, and stage 2 (section 2.3), the
-feature clusters and their medial points:
+feature clusters, their medial points and the fitted, trimmed shock surfaces:
 - Data/wedge15Ma5.vtu, OpenFOAM rhoCentralFoam's Mach 5 flow over a 15 degree
   wedge (hexahedra): ShockSensor (NormalMach, ShockCells) and WeightFunction
   on the conserved variables; the shock angle fitted to the shock cells is
   compared with the theta-beta-Mach relation.
 - Data/oblique_shock_unstructured.vtu, an analytic 3-D oblique shock on a Gmsh
   tetrahedral mesh: the same, compared with the exact shock plane.
+- Data/cone20Ma2p5.vtu (when present), OpenFOAM on a Gmsh mesh around a 20
+  degree cone at Mach 2.5: the conical shock fitted as a cone, compared with
+  Taylor-Maccoll.
 
 Writes <output>/*_sensors.vtu (the meshes with the sensor and cluster
 arrays, for ParaView), *_medial.vtp (the medial points), PNG pictures, and
-prints a summary table.
+*_shock_surface.vtp (the fitted surfaces), and prints a summary table.
 """
 import argparse
 import os
@@ -148,6 +151,14 @@ summary.append(("wedge15Ma5 medial points of W in [1.5, 2]", int(medial.GetNumbe
                 "%d cluster(s); line through medial points beyond x = 0.08: %.2f deg"
                 % (len(np.asarray(medial.FieldData["ClusterSizes"])), medial_angle)))
 
+surface = QuadricFit(Input=OutputPort(clusters, 1), Domain=wedge, Template="Plane", ClusterId=0)
+plane = local(surface)
+normal = np.asarray(plane.FieldData["Normal"])
+plane_angle = np.degrees(np.arctan2(abs(normal[0]), abs(normal[1])))
+save(surface, "wedge15Ma5_shock_surface.vtp")
+summary.append(("wedge15Ma5 QuadricFit plane (robust)", int(plane.GetNumberOfCells()),
+                "shock plane %.2f deg (theta-beta-Mach %.2f deg)" % (plane_angle, exact)))
+
 shocks = Threshold(Input=weight, Scalars=["CELLS", "ShockCells"], LowerThreshold=0.5, UpperThreshold=1.5)
 top_view = lambda view: (view.ResetCamera(), setattr(view, "CameraPosition", [0.08, 0.076, 1.0]),
                          setattr(view, "CameraFocalPoint", [0.08, 0.076, 0.0]), setattr(view, "CameraViewUp", [0, 1, 0]),
@@ -169,10 +180,34 @@ def medial_dots(display, view):
     display.DiffuseColor = [0.1, 0.9, 0.3]
 
 
+def surface_edges(display, view):
+    display.Representation = "Surface With Edges"
+    display.ColorArrayName = ["POINTS", ""]
+    display.DiffuseColor = [0.3, 0.6, 1.0]
+    display.EdgeColor = [0.0, 0.0, 0.4]
+
+
 picture("wedge15Ma5_WeightFunction.png",
         [(weight, colored("WeightFunction", "CELLS", 1.0, 2.0, "Inferno (matplotlib)", "W")),
          (OutputPort(clusters, 1), medial_dots)], top_view,
         "Weight function W (Soni et al.) on the conserved variables; medial points of W in [1.5, 2] in green")
+def translucent_pressure(display, view):
+    colored("p", "POINTS", 1.0, 5.0, "Viridis (matplotlib)", "p")(display, view)
+    display.Opacity = 0.45
+
+
+def red_lines(display, view):
+    display.Representation = "Wireframe"
+    display.ColorArrayName = ["POINTS", ""]
+    display.AmbientColor = [0.9, 0.1, 0.1]
+    display.DiffuseColor = [0.9, 0.1, 0.1]
+    display.LineWidth = 3.0
+
+
+picture("wedge15Ma5_shock_surface.png",
+        [(weight, translucent_pressure), (surface, red_lines)], top_view,
+        "Fitted shock plane, edge-on in red (QuadricFit, %.2f deg; theta-beta-Mach %.2f deg), over the pressure"
+        % (plane_angle, exact))
 
 # ------------------------------------------------- the analytic 3-D shock
 oblique = XMLUnstructuredGridReader(FileName=[os.path.join(args.data, "oblique_shock_unstructured.vtu")])
@@ -188,6 +223,14 @@ _, _, vt = np.linalg.svd(c3 - c3.mean(axis=0))
 angle = np.degrees(np.arccos(min(1.0, abs(np.dot(vt[-1], n_exact)))))
 summary.append(("oblique shock (analytic, %d Gmsh tetrahedra)" % out3.GetNumberOfCells(), int(shock3.sum()),
                 "shock plane %.2f deg from the exact one" % angle))
+
+clusters3 = FeatureCluster(Input=weight3, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
+surface3 = QuadricFit(Input=OutputPort(clusters3, 1), Domain=oblique, Template="Plane", ClusterId=0)
+plane3 = local(surface3)
+fit_angle = np.degrees(np.arccos(min(1.0, abs(np.dot(np.asarray(plane3.FieldData["Normal"]), n_exact)))))
+save(surface3, "oblique_shock_surface.vtp")
+summary.append(("oblique shock QuadricFit plane", int(plane3.GetNumberOfCells()),
+                "fitted plane %.2f deg from the exact one" % fit_angle))
 
 slice3 = Slice(Input=weight3)
 slice3.SliceType.Origin = [0.5, 0.5, 0.5]
@@ -220,6 +263,50 @@ picture("oblique_shock_sensors.png",
         [(weight3, outline), (slice3, colored("WeightFunction", "CELLS", 1.0, 2.0, "Inferno (matplotlib)", "W")),
          (shocks3, translucent_shock)], iso_view,
         "Analytic 3-D oblique shock (M = 2.5): W on the mid-plane z = 0.5, shock cells in blue")
+picture("oblique_shock_surface.png",
+        [(weight3, outline), (slice3, colored("WeightFunction", "CELLS", 1.0, 2.0, "Inferno (matplotlib)", "W")),
+         (surface3, surface_edges)], iso_view,
+        "Analytic 3-D oblique shock: fitted, trimmed shock plane (%.2f deg from the exact one)" % fit_angle)
+
+# ------------------------------------------------------------ the 3-D cone
+cone_path = os.path.join(args.data, "cone20Ma2p5.vtu")
+if os.path.exists(cone_path):
+    from taylor_maccoll import cone_shock_angle
+    cone = XMLUnstructuredGridReader(FileName=[cone_path])
+    src = local(cone)
+    half = float(np.asarray(src.FieldData["ConeHalfAngle"])[0])
+    mach_c = float(np.asarray(src.FieldData["UpstreamMach"])[0])
+    gamma_c = float(np.asarray(src.FieldData["Gamma"])[0])
+    tip = np.asarray(src.FieldData["ConeTip"])
+    reference = cone_shock_angle(mach_c, half, gamma_c)
+    weight_c = WeightFunction(Input=cone, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
+    clusters_c = FeatureCluster(Input=weight_c, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
+    surface_c = QuadricFit(Input=OutputPort(clusters_c, 1), Domain=cone, Template="Cone", ClusterId=0)
+    fitted_cone = local(surface_c)
+    got = float(np.asarray(fitted_cone.FieldData["HalfAngle"])[0])
+    apex = np.asarray(fitted_cone.FieldData["Apex"])
+    save(clusters_c, "cone20Ma2p5_sensors.vtu")
+    save(surface_c, "cone20Ma2p5_shock_surface.vtp")
+    summary.append(("cone20Ma2p5 (OpenFOAM, %d Gmsh tetrahedra) QuadricFit cone" % src.GetNumberOfCells(),
+                    int(fitted_cone.GetNumberOfCells()),
+                    "shock half-angle %.2f deg (Taylor-Maccoll %.2f deg), apex %.4f from the tip"
+                    % (got, reference, np.linalg.norm(apex - tip))))
+    symmetry = Slice(Input=weight_c)
+    symmetry.SliceType.Origin = [0.5, 0.0, 0.001]
+    symmetry.SliceType.Normal = [0, 0, 1]
+
+    def cone_view(view):
+        view.ResetCamera()
+        view.CameraPosition = [0.4, -1.2, 2.2]
+        view.CameraFocalPoint = [0.45, 0.3, 0.1]
+        view.CameraViewUp = [0, 1, 0]
+        view.ResetCamera()
+
+    picture("cone20Ma2p5_shock_surface.png",
+            [(symmetry, colored("p", "POINTS", 0.5, 2.0, "Viridis (matplotlib)", "p")), (surface_c, surface_edges)],
+            cone_view,
+            "Mach 2.5, 20 deg cone (OpenFOAM): fitted conical shock %.2f deg (Taylor-Maccoll %.2f deg) over p on the symmetry plane"
+            % (got, reference))
 
 print()
 print("| dataset | shock cells / medial points | check |")

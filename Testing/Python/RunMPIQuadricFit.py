@@ -11,7 +11,6 @@ serial one: same triangles at the same places, same field data; rank 0 holds
 the surface, rank 1 nothing.
 """
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -23,24 +22,11 @@ pvbatch, mpiexec = sys.argv[1], sys.argv[2]
 pvpython = os.path.join(os.path.dirname(pvbatch), "pvpython")
 here = os.path.dirname(os.path.abspath(__file__))
 script = os.path.join(here, "MPIQuadricFitPipeline.py")
-env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_", "HYDRA_"))}
-env["PYTHONPATH"] = here + os.pathsep + env.get("PYTHONPATH", "")
+load = artest.load
 
 
 def run(cmd):
-    print("$ " + " ".join(cmd))
-    r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
-    print(r.stdout[-3000:])
-    return r.returncode, r.stdout
-
-
-def load(path):
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
-    from vtkmodules.numpy_interface import dataset_adapter as dsa
-    r = vtkXMLPolyDataReader()
-    r.SetFileName(path)
-    r.Update()
-    return dsa.WrapDataObject(r.GetOutput())
+    return artest.run(cmd)
 
 
 def corners(d):

@@ -11,7 +11,6 @@ NormalMach with the serial values. Also checks that the data really was
 split over both ranks.
 """
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -23,26 +22,11 @@ pvbatch, mpiexec = sys.argv[1], sys.argv[2]
 pvpython = os.path.join(os.path.dirname(pvbatch), "pvpython")
 here = os.path.dirname(os.path.abspath(__file__))
 script = os.path.join(here, "MPISensorsPipeline.py")
-# pvpython initializes MPI as a singleton: its OMPI_/PMIX_ variables would
-# make the child mpiexec fail, so the children get an environment without them.
-env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_", "HYDRA_"))}
-env["PYTHONPATH"] = here + os.pathsep + env.get("PYTHONPATH", "")
+load = artest.load
 
 
 def run(cmd):
-    print("$ " + " ".join(cmd))
-    r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
-    print(r.stdout[-3000:])
-    return r.returncode
-
-
-def load(path):
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-    from vtkmodules.numpy_interface import dataset_adapter as dsa
-    r = vtkXMLUnstructuredGridReader()
-    r.SetFileName(path)
-    r.Update()
-    return dsa.WrapDataObject(r.GetOutput())
+    return artest.run(cmd)[0]
 
 
 DUPLICATE = 1  # vtkDataSetAttributes::DUPLICATECELL / DUPLICATEPOINT
@@ -134,15 +118,7 @@ for name in ("oblique_shock_unstructured.vtu", "wedge15Ma5.vtu"):
         check(np.array_equal(a, b), "%s: FeatureCluster %s equal at every owned point (%d differ, %d in the mask)"
               % (name, array, np.sum(a != b), np.asarray(s.PointData["FeatureMask"]).sum()))
 
-    def load_medial(path):
-        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
-        from vtkmodules.numpy_interface import dataset_adapter as dsa
-        r = vtkXMLPolyDataReader()
-        r.SetFileName(path)
-        r.Update()
-        return dsa.WrapDataObject(r.GetOutput())
-
-    ms, mp = load_medial(serial_out + ".medial.vtp"), load_medial(parallel_out + ".medial.vtp")
+    ms, mp = load(serial_out + ".medial.vtp"), load(parallel_out + ".medial.vtp")
     same = ms.GetNumberOfPoints() == mp.GetNumberOfPoints() and ms.GetNumberOfPoints() > 0 and \
         np.array_equal(np.asarray(ms.Points), np.asarray(mp.Points)) and \
         all(np.array_equal(np.asarray(ms.PointData[k]), np.asarray(mp.PointData[k]))

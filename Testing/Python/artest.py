@@ -83,6 +83,37 @@ def cell_centroids(dataset):
     return centroids, longest
 
 
+def child_environment():
+    """The environment for the pvbatch / mpiexec children of a test driver.
+    pvpython initializes MPI as a singleton: its OMPI_/PMIX_ variables would
+    make a child mpiexec fail, so they are left out."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_", "HYDRA_"))}
+    env["PYTHONPATH"] = here + os.pathsep + env.get("PYTHONPATH", "")
+    return env
+
+
+def run(cmd):
+    """Runs a child command, prints its command line and the end of its
+    output; returns (exit code, output)."""
+    import subprocess
+    say("$ " + " ".join(cmd))
+    r = subprocess.run(cmd, env=child_environment(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                       text=True, timeout=600)
+    say(r.stdout[-3000:])
+    return r.returncode, r.stdout
+
+
+def load(path):
+    """A VTK XML file (any type), wrapped for numpy."""
+    from vtkmodules.numpy_interface import dataset_adapter as dsa
+    from vtkmodules.vtkIOXML import vtkXMLGenericDataObjectReader
+    r = vtkXMLGenericDataObjectReader()
+    r.SetFileName(path)
+    r.Update()
+    return dsa.WrapDataObject(r.GetOutput())
+
+
 def fit_plane(points, weights=None):
     """Least-squares plane through points: (unit normal, centroid)."""
     p = np.asarray(points, dtype=float)

@@ -279,15 +279,18 @@ if os.path.exists(cone_path):
     gamma_c = float(np.asarray(src.FieldData["Gamma"])[0])
     tip = np.asarray(src.FieldData["ConeTip"])
     reference = cone_shock_angle(mach_c, half, gamma_c)
-    weight_c = WeightFunction(Input=cone, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
-    clusters_c = FeatureCluster(Input=weight_c, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
+    # The Mn = 1 band marks the centre of the captured shock (W's band sits on
+    # its upstream side).
+    weight_c = ShockSensor(Input=cone, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"],
+                           Gamma=gamma_c)
+    clusters_c = FeatureCluster(Input=weight_c, SensorArray=["POINTS", "NormalMach"], SensorRange=[0.8, 1.2])
     surface_c = QuadricFit(Input=OutputPort(clusters_c, 1), Domain=cone, Template="Cone", ClusterId=0)
     fitted_cone = local(surface_c)
     got = float(np.asarray(fitted_cone.FieldData["HalfAngle"])[0])
     apex = np.asarray(fitted_cone.FieldData["Apex"])
     save(clusters_c, "cone20Ma2p5_sensors.vtu")
     save(surface_c, "cone20Ma2p5_shock_surface.vtp")
-    summary.append(("cone20Ma2p5 (OpenFOAM, %d Gmsh tetrahedra) QuadricFit cone" % src.GetNumberOfCells(),
+    summary.append(("cone20Ma2p5 (OpenFOAM, %d Gmsh tetrahedra) NormalMach 0.8-1.2, QuadricFit cone" % src.GetNumberOfCells(),
                     int(fitted_cone.GetNumberOfCells()),
                     "shock half-angle %.2f deg (Taylor-Maccoll %.2f deg), apex %.4f from the tip"
                     % (got, reference, np.linalg.norm(apex - tip))))
@@ -297,13 +300,17 @@ if os.path.exists(cone_path):
 
     def cone_view(view):
         view.ResetCamera()
-        view.CameraPosition = [0.4, -1.2, 2.2]
-        view.CameraFocalPoint = [0.45, 0.3, 0.1]
+        view.CameraPosition = [0.45, -0.6, 2.4]
+        view.CameraFocalPoint = [0.45, 0.3, 0.0]
         view.CameraViewUp = [0, 1, 0]
         view.ResetCamera()
 
+    def translucent_edges(display, view):
+        surface_edges(display, view)
+        display.Opacity = 0.3
+
     picture("cone20Ma2p5_shock_surface.png",
-            [(symmetry, colored("p", "POINTS", 0.5, 2.0, "Viridis (matplotlib)", "p")), (surface_c, surface_edges)],
+            [(symmetry, colored("p", "POINTS", 0.8, 2.4, "Viridis (matplotlib)", "p")), (surface_c, translucent_edges)],
             cone_view,
             "Mach 2.5, 20 deg cone (OpenFOAM): fitted conical shock %.2f deg (Taylor-Maccoll %.2f deg) over p on the symmetry plane"
             % (got, reference))

@@ -30,6 +30,10 @@
  * Weight (1 / l_j, the weight of Eq. 4) and BoundaryDistance; field data
  * ClusterSizes (nodes per cluster).
  *
+ * Which sensor: W (vtkWeightFunction) is largest where |q| is smallest, so
+ * its band sits on the upstream side of a captured shock, about a cell off
+ * its centre; a NormalMach band around 1 (e.g. [0.8, 1.2]) is centred on it.
+ *
  * Mesh edges are the edges of the cells (the edge tables of tetrahedra,
  * pyramids, wedges, hexahedra, voxels, prisms; the face edges of polyhedra).
  *

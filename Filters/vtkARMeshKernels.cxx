@@ -317,8 +317,8 @@ bool vtkARMeshKernels::CellColumnsToPoints(const MeshView& mesh, const double* c
 }
 
 //------------------------------------------------------------------------------
-void vtkARMeshKernels::RequestOneMoreGhostLevel(
-  vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+void vtkARMeshKernels::RequestExtraGhostLevels(
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int extra)
 {
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
@@ -326,7 +326,7 @@ void vtkARMeshKernels::RequestOneMoreGhostLevel(
   inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
   inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));
   inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(),
-    outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS()) + 1);
+    outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS()) + extra);
 }
 
 //------------------------------------------------------------------------------

@@ -162,9 +162,11 @@ public:
     const std::vector<int>& cellColumns, double* pointTable, int pointStride,
     const std::vector<int>& pointColumns, vtkAlgorithm* abortSource);
 
-  /// RequestUpdateExtent of the sensors: the downstream request plus one
-  /// ghost level (gradients at partition boundaries need the neighbours).
-  static void RequestOneMoreGhostLevel(vtkInformationVector** inputVector, vtkInformationVector* outputVector);
+  /// RequestUpdateExtent of the filters: the downstream piece request plus
+  /// `extra` ghost levels (gradients and graph rings at partition boundaries
+  /// need the neighbours).
+  static void RequestExtraGhostLevels(
+    vtkInformationVector** inputVector, vtkInformationVector* outputVector, int extra);
 
   /// MPI reductions over the global controller (no-ops in serial).
   static void AllReduceMax(double* values, int n);

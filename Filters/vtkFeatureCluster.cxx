@@ -22,7 +22,6 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPyramid.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTetra.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
@@ -182,15 +181,9 @@ int vtkFeatureCluster::FillOutputPortInformation(int port, vtkInformation* info)
 int vtkFeatureCluster::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  using SDDP = vtkStreamingDemandDrivenPipeline;
-  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
-  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));
   // The region around a node on a partition boundary reaches DilationRings + 1
   // rings into the neighbouring partition.
-  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(),
-    outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS()) + this->DilationRings + 1);
+  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, this->DilationRings + 1);
   return 1;
 }
 

@@ -55,7 +55,7 @@ vtkShockSensor::vtkShockSensor()
 int vtkShockSensor::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkARMeshKernels::RequestOneMoreGhostLevel(inputVector, outputVector);
+  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, 1);
   return 1;
 }
 

@@ -68,7 +68,7 @@ void vtkWeightFunction::RemoveAllVariables()
 int vtkWeightFunction::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkARMeshKernels::RequestOneMoreGhostLevel(inputVector, outputVector);
+  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, 1);
   return 1;
 }
 

@@ -1389,7 +1389,17 @@ bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n
   const SurfaceFitOptions& options, SurfaceFitResult& result, std::string& error, int iterations,
   std::vector<double>* robustWeights)
 {
-  if (!FitSurface(points, weights, n, options, result, error))
+  // For the graphs (quadric, quartic) the reweighting runs on the cheap
+  // vertical-offset fit; the geometric refinement runs once, on the final
+  // weights. (The plane's refinement is an exact PCA; the cone's start needs it.)
+  SurfaceFitOptions inner = options;
+  const bool graph =
+    options.Template == SurfaceTemplate::Quadric || options.Template == SurfaceTemplate::Quartic;
+  if (graph)
+  {
+    inner.GeometricRefinement = false;
+  }
+  if (!FitSurface(points, weights, n, inner, result, error))
   {
     return false;
   }
@@ -1436,17 +1446,36 @@ bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n
         w2.push_back(w[j]);
       }
     }
-    SurfaceFitOptions next = options;
     SurfaceFitResult refit;
     std::string refitError;
-    if (!FitSurface(p2.data(), w2.data(), kept, next, refit, refitError))
+    if (!FitSurface(p2.data(), w2.data(), kept, inner, refit, refitError))
     {
       break; // keep the last good fit
     }
     result = refit;
-    if (change < 1e-3)
+    if (change < 0.02)
     {
       break;
+    }
+  }
+  if (graph && options.GeometricRefinement)
+  {
+    std::vector<double> p2, w2;
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      const double wj = (weights ? weights[j] : 1.0) * multiplier[j];
+      if (wj > 0.0)
+      {
+        p2.insert(p2.end(), points + 3 * j, points + 3 * j + 3);
+        w2.push_back(wj);
+      }
+    }
+    SurfaceFitResult refined;
+    std::string refineError;
+    if (w2.size() >= minimum &&
+      FitSurface(p2.data(), w2.data(), w2.size(), options, refined, refineError))
+    {
+      result = refined;
     }
   }
   // Residuals over all the points.

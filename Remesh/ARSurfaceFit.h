@@ -140,7 +140,8 @@ bool FitSurface(const double* points, const double* weights, std::size_t n,
  * refits). Medial points that do not belong to the feature surface, such as
  * those where a feature band is cut by a wall and the edge distance peaks on
  * the wall, stop pulling the fit; on clean data the weights stay near 1 and
- * the answer is that of FitSurface. `robustWeights`, if given, gets the final
+ * the answer is that of FitSurface. The loop stops when no multiplier moves
+ * by 0.02 or more. `robustWeights`, if given, gets the final
  * multipliers in [0, 1]. The result's residuals are over all points.
  */
 bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n,

@@ -44,6 +44,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__ if "__file__" in globals() else sys.argv[0]))
 sys.path.insert(0, HERE)
+import foam_case  # noqa: E402
 import taylor_maccoll  # noqa: E402
 
 from paraview import simple  # noqa: E402
@@ -57,88 +58,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData  # noqa: E402
 from vtkmodules.vtkFiltersCore import vtkProbeFilter  # noqa: E402
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter, vtkXMLUnstructuredGridReader  # noqa: E402
 
-UNIVERSAL_R = 8314.47  # J/(kmol K), OpenFOAM's constant::thermodynamics::RR
 KEEP = ("rho", "U", "p", "T")
-
-
-# ---------------------------------------------------------------- OpenFOAM dictionary helpers
-def _read_dict(path):
-    with open(path) as f:
-        txt = f.read()
-    txt = re.sub(r"/\*.*?\*/", " ", txt, flags=re.S)
-    txt = re.sub(r"//[^\n]*", " ", txt)
-    return txt
-
-
-def _enclosed(txt, start, open_ch, close_ch):
-    """Text between the bracket at txt[start] and its matching closing bracket."""
-    assert txt[start] == open_ch
-    depth = 0
-    for i in range(start, len(txt)):
-        if txt[i] == open_ch:
-            depth += 1
-        elif txt[i] == close_ch:
-            depth -= 1
-            if depth == 0:
-                return txt[start + 1:i]
-    raise ValueError("unbalanced %s%s" % (open_ch, close_ch))
-
-
-def _sub(txt, key, kind="{"):
-    """Contents of `key { ... }` (kind '{') or `key ( ... )` (kind '(')."""
-    close = "}" if kind == "{" else ")"
-    m = re.search(r"(?<![\w.])%s\s*\%s" % (re.escape(key), kind), txt)
-    if not m:
-        raise KeyError(key)
-    return _enclosed(txt, m.end() - 1, kind, close)
-
-
-def _scalar(txt, key):
-    m = re.search(r"(?<![\w.])%s\s+([-+0-9.eE]+)\s*;" % re.escape(key), txt)
-    if not m:
-        raise KeyError(key)
-    return float(m.group(1))
-
-
-def _uniform_value(txt):
-    """Value of `value uniform X;` with X a scalar or a (vector)."""
-    m = re.search(r"\bvalue\s+uniform\s+(\([^)]*\)|[-+0-9.eE]+)\s*;", txt)
-    if not m:
-        raise KeyError("value uniform")
-    v = m.group(1).strip("()").split()
-    return [float(x) for x in v]
-
-
-# ---------------------------------------------------------------- case metadata
-def gas_properties(case):
-    tp = _read_dict(os.path.join(case, "constant", "thermophysicalProperties"))
-    thermo_type = _sub(tp, "thermoType")
-    for key, want in (("thermo", "hConst"), ("equationOfState", "perfectGas")):
-        m = re.search(r"\b%s\s+(\w+)\s*;" % key, thermo_type)
-        if not m or m.group(1) != want:
-            raise RuntimeError("expected %s %s in thermoType (constant gamma), got %s"
-                               % (key, want, m.group(1) if m else None))
-    mixture = _sub(tp, "mixture")
-    mol_weight = _scalar(_sub(mixture, "specie"), "molWeight")
-    cp = _scalar(_sub(mixture, "thermodynamics"), "Cp")
-    r_gas = UNIVERSAL_R / mol_weight
-    gamma = cp / (cp - r_gas)
-    return gamma, r_gas, cp, mol_weight
-
-
-def inlet_state(case, time_dir):
-    """(U vector, T, p) of the fixedValue inlet patch, from the time directory read."""
-    vals = {}
-    for name in ("U", "T", "p"):
-        path = os.path.join(case, time_dir, name)
-        if not os.path.exists(path):
-            path = os.path.join(case, "0", name)
-        txt = _read_dict(path)
-        inlet = _sub(_sub(txt, "boundaryField"), "inlet")
-        if not re.search(r"\btype\s+fixedValue\s*;", inlet):
-            raise RuntimeError("%s: inlet is not fixedValue" % path)
-        vals[name] = _uniform_value(inlet)
-    return vals["U"], vals["T"][0], vals["p"][0]
 
 
 def cone_geometry(points, upstream):
@@ -292,8 +212,8 @@ def main(argv):
     cone_pts = servermanager.Fetch(pmerged)
     if cone_pts is None or cone_pts.GetNumberOfPoints() < 10:
         sys.exit("no points on patch 'cone'")
-    gamma, r_gas, cp, mol_weight = gas_properties(case)
-    u_in, t_in, p_in = inlet_state(case, time_dir)
+    gamma, r_gas, cp, mol_weight = foam_case.gas_properties(case)
+    u_in, t_in, p_in = foam_case.inlet_state(case, time_dir)
     half_angle, tip, axis, dev = cone_geometry(nps.vtk_to_numpy(cone_pts.GetPoints().GetData()), u_in)
     if dev > 0.05:
         sys.exit("patch 'cone' is not a sharp cone: point directions deviate by up to %.3g deg" % dev)

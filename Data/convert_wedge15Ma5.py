@@ -31,6 +31,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__ if "__file__" in globals() else sys.argv[0]))
 sys.path.insert(0, HERE)
+import foam_case  # noqa: E402
 import theta_beta_mach  # noqa: E402
 
 from paraview import simple  # noqa: E402
@@ -41,88 +42,7 @@ from vtkmodules.vtkCommonCore import vtkDoubleArray  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid, VTK_HEXAHEDRON  # noqa: E402
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter, vtkXMLUnstructuredGridReader  # noqa: E402
 
-UNIVERSAL_R = 8314.47  # J/(kmol K), OpenFOAM's constant::thermodynamics::RR
 KEEP = ("rho", "U", "p", "T")
-
-
-# ---------------------------------------------------------------- OpenFOAM dictionary helpers
-def _read_dict(path):
-    with open(path) as f:
-        txt = f.read()
-    txt = re.sub(r"/\*.*?\*/", " ", txt, flags=re.S)
-    txt = re.sub(r"//[^\n]*", " ", txt)
-    return txt
-
-
-def _enclosed(txt, start, open_ch, close_ch):
-    """Text between the bracket at txt[start] and its matching closing bracket."""
-    assert txt[start] == open_ch
-    depth = 0
-    for i in range(start, len(txt)):
-        if txt[i] == open_ch:
-            depth += 1
-        elif txt[i] == close_ch:
-            depth -= 1
-            if depth == 0:
-                return txt[start + 1:i]
-    raise ValueError("unbalanced %s%s" % (open_ch, close_ch))
-
-
-def _sub(txt, key, kind="{"):
-    """Contents of `key { ... }` (kind '{') or `key ( ... )` (kind '(')."""
-    close = "}" if kind == "{" else ")"
-    m = re.search(r"(?<![\w.])%s\s*\%s" % (re.escape(key), kind), txt)
-    if not m:
-        raise KeyError(key)
-    return _enclosed(txt, m.end() - 1, kind, close)
-
-
-def _scalar(txt, key):
-    m = re.search(r"(?<![\w.])%s\s+([-+0-9.eE]+)\s*;" % re.escape(key), txt)
-    if not m:
-        raise KeyError(key)
-    return float(m.group(1))
-
-
-def _uniform_value(txt):
-    """Value of `value uniform X;` with X a scalar or a (vector)."""
-    m = re.search(r"\bvalue\s+uniform\s+(\([^)]*\)|[-+0-9.eE]+)\s*;", txt)
-    if not m:
-        raise KeyError("value uniform")
-    v = m.group(1).strip("()").split()
-    return [float(x) for x in v]
-
-
-# ---------------------------------------------------------------- case metadata
-def gas_properties(case):
-    tp = _read_dict(os.path.join(case, "constant", "thermophysicalProperties"))
-    thermo_type = _sub(tp, "thermoType")
-    for key, want in (("thermo", "hConst"), ("equationOfState", "perfectGas")):
-        m = re.search(r"\b%s\s+(\w+)\s*;" % key, thermo_type)
-        if not m or m.group(1) != want:
-            raise RuntimeError("expected %s %s in thermoType (constant gamma), got %s"
-                               % (key, want, m.group(1) if m else None))
-    mixture = _sub(tp, "mixture")
-    mol_weight = _scalar(_sub(mixture, "specie"), "molWeight")
-    cp = _scalar(_sub(mixture, "thermodynamics"), "Cp")
-    r_gas = UNIVERSAL_R / mol_weight
-    gamma = cp / (cp - r_gas)
-    return gamma, r_gas, cp, mol_weight
-
-
-def inlet_state(case, time_dir):
-    """(U vector, T) of the fixedValue inlet patch, from the time directory read."""
-    vals = {}
-    for name in ("U", "T"):
-        path = os.path.join(case, time_dir, name)
-        if not os.path.exists(path):
-            path = os.path.join(case, "0", name)
-        txt = _read_dict(path)
-        inlet = _sub(_sub(txt, "boundaryField"), "inlet")
-        if not re.search(r"\btype\s+fixedValue\s*;", inlet):
-            raise RuntimeError("%s: inlet is not fixedValue" % path)
-        vals[name] = _uniform_value(inlet)
-    return vals["U"], vals["T"][0]
 
 
 def wedge_geometry(case):
@@ -130,18 +50,18 @@ def wedge_geometry(case):
     path = os.path.join(case, "system", "blockMeshDict")
     if not os.path.exists(path):
         path = os.path.join(case, "constant", "polyMesh", "blockMeshDict")
-    bm = _read_dict(path)
+    bm = foam_case.read_dict(path)
     scale = 1.0
     for key in ("scale", "convertToMeters"):
         try:
-            scale = _scalar(bm, key)
+            scale = foam_case.scalar(bm, key)
             break
         except KeyError:
             pass
     verts = [tuple(scale * float(c) for c in v.split())
-             for v in re.findall(r"\(([^()]*)\)", _sub(bm, "vertices", "("))]
-    boundary = _sub(bm, "boundary", "(")
-    faces = _sub(_sub(boundary, "obstacle"), "faces", "(")
+             for v in re.findall(r"\(([^()]*)\)", foam_case.sub(bm, "vertices", "("))]
+    boundary = foam_case.sub(bm, "boundary", "(")
+    faces = foam_case.sub(foam_case.sub(boundary, "obstacle"), "faces", "(")
     ids = sorted({int(i) for f in re.findall(r"\(([^()]*)\)", faces) for i in f.split()})
     pts = sorted({(round(verts[i][0], 12), round(verts[i][1], 12)) for i in ids})
     if len(pts) != 2:
@@ -197,8 +117,8 @@ def main(argv):
     grid.SetPoints(src.GetPoints())
     grid.SetCells(src.GetCellTypesArray(), src.GetCells())
 
-    gamma, r_gas, cp, mol_weight = gas_properties(case)
-    u_in, t_in = inlet_state(case, time_dir)
+    gamma, r_gas, cp, mol_weight = foam_case.gas_properties(case)
+    u_in, t_in, _ = foam_case.inlet_state(case, time_dir)
     mach = math.sqrt(sum(c * c for c in u_in)) / math.sqrt(gamma * r_gas * t_in)
     wedge, tip, ramp = wedge_geometry(case)
     beta = theta_beta_mach.shock_angle(mach, wedge, gamma)

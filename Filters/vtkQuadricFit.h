@@ -60,9 +60,9 @@
  * Several clusters: one filter per cluster id. In pvpython:
  * @code
  * cluster = FeatureCluster(Input=sensor, ...)
- * ids = set(servermanager.Fetch(OutputPort(cluster, 1)).GetPointData().GetArray("ClusterId"))
- * surfaces = [QuadricFit(Input=OutputPort(cluster, 1), Domain=sensor, ClusterId=int(i),
- *                        Template='Cone') for i in sorted(ids)]
+ * sizes = servermanager.Fetch(cluster, idx=1).GetFieldData().GetArray("ClusterSizes")
+ * surfaces = [QuadricFit(Input=OutputPort(cluster, 1), Domain=sensor, ClusterId=i,
+ *                        Template='Cone') for i in range(sizes.GetNumberOfTuples())]
  * @endcode
  *
  * Errors (output empty, vtkErrorMacro naming the problem): no points, no

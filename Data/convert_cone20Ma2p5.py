@@ -39,26 +39,23 @@ surface pressure (point data on the cone) is printed next to Taylor-Maccoll.
 
 import math
 import os
-import re
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__ if "__file__" in globals() else sys.argv[0]))
 sys.path.insert(0, HERE)
 import foam_case  # noqa: E402
+import foam_vtu  # noqa: E402
 import taylor_maccoll  # noqa: E402
 
 from paraview import simple  # noqa: E402
 from paraview import servermanager  # noqa: E402
 from paraview.vtk.util import numpy_support as nps  # noqa: E402
 import numpy as np  # noqa: E402
-from vtkmodules.vtkCommonCore import vtkDoubleArray  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid, VTK_TETRA  # noqa: E402
+from vtkmodules.vtkCommonDataModel import VTK_TETRA  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkPolyData  # noqa: E402
 from vtkmodules.vtkFiltersCore import vtkProbeFilter  # noqa: E402
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter, vtkXMLUnstructuredGridReader  # noqa: E402
 
-KEEP = ("rho", "U", "p", "T")
 
 
 def cone_geometry(points, upstream):
@@ -169,38 +166,8 @@ def main(argv):
         sys.exit("usage: pvpython %s CASE_DIR OUTPUT.vtu" % argv[0])
     case = os.path.abspath(argv[1])
     out = os.path.abspath(argv[2])
-    if not os.path.isfile(os.path.join(case, "system", "controlDict")):
-        sys.exit("%s is not an OpenFOAM case" % case)
-
-    # the reader wants a *.foam file in the case directory
-    foam = os.path.join(case, os.path.basename(case) + ".foam")
-    if not os.path.exists(foam):
-        open(foam, "w").close()
-
-    reader = simple.OpenFOAMReader(FileName=foam)
-    reader.MeshRegions = ["internalMesh"]
-    reader.CellArrays = list(KEEP)
-    reader.Createcelltopointfiltereddata = 1
-    reader.Decomposepolyhedra = 0
-    reader.SkipZeroTime = 1
-    reader.UpdatePipelineInformation()
-    times = list(reader.TimestepValues)
-    if not times:
-        sys.exit("no time steps in %s" % case)
-    t_last = max(times)
-    time_dirs = [d for d in os.listdir(case)
-                 if re.fullmatch(r"[0-9.eE+-]+", d) and os.path.isdir(os.path.join(case, d))]
-    time_dir = min(time_dirs, key=lambda d: abs(float(d) - t_last))
-    merged = simple.MergeBlocks(Input=reader)
-    merged.UpdatePipeline(t_last)
-    src = servermanager.Fetch(merged)
-    if not isinstance(src, vtkUnstructuredGrid):
-        sys.exit("MergeBlocks gave %s, expected vtkUnstructuredGrid" % src.GetClassName())
-
-    ncells = src.GetNumberOfCells()
-    types = nps.vtk_to_numpy(src.GetCellTypesArray())
-    if ncells == 0 or not np.all(types == VTK_TETRA):
-        sys.exit("expected only tetrahedra, got cell types %s" % sorted(set(types.tolist())))
+    src, time_dir, t_last = foam_vtu.read_last_time(case, VTK_TETRA, "tetrahedra")
+    foam = foam_vtu.foam_file(case)
 
     # cone patch points (geometry only)
     patch = simple.OpenFOAMReader(FileName=foam)
@@ -218,10 +185,6 @@ def main(argv):
     if dev > 0.05:
         sys.exit("patch 'cone' is not a sharp cone: point directions deviate by up to %.3g deg" % dev)
 
-    grid = vtkUnstructuredGrid()
-    grid.SetPoints(src.GetPoints())
-    grid.SetCells(src.GetCellTypesArray(), src.GetCells())
-
     mach = math.sqrt(sum(c * c for c in u_in)) / math.sqrt(gamma * r_gas * t_in)
     flow_angle = math.degrees(math.acos(min(1.0, abs(np.dot(u_in, axis)) / np.linalg.norm(u_in))))
     if flow_angle > 0.01:
@@ -229,76 +192,13 @@ def main(argv):
                  % flow_angle)
     tm = taylor_maccoll.taylor_maccoll(mach, half_angle, gamma)
 
-    for kind, sdata, ddata in (("point", src.GetPointData(), grid.GetPointData()),
-                               ("cell", src.GetCellData(), grid.GetCellData())):
-        arr = {}
-        for name in KEEP:
-            a = sdata.GetArray(name)
-            if a is None:
-                sys.exit("no %s array %s in the reader output" % (kind, name))
-            arr[name] = nps.vtk_to_numpy(a)
-        dtype = arr["p"].dtype
-        rho = arr["rho"].astype(np.float64)
-        u = arr["U"].astype(np.float64)
-        p = arr["p"].astype(np.float64)
-        rho_u = rho[:, None] * u
-        rho_e = p / (gamma - 1.0) + 0.5 * rho * np.einsum("ij,ij->i", u, u)
-        for name in KEEP:
-            ddata.AddArray(sdata.GetArray(name))
-        for name, values in (("rhoU", rho_u), ("rhoE", rho_e)):
-            v = nps.numpy_to_vtk(np.ascontiguousarray(values.astype(dtype)), deep=1)
-            v.SetName(name)
-            ddata.AddArray(v)
-
-    def field(name, values):
-        a = vtkDoubleArray()
-        a.SetName(name)
-        a.SetNumberOfComponents(len(values))
-        a.InsertNextTuple([float(x) for x in values])
-        grid.GetFieldData().AddArray(a)
-
-    field("Gamma", (gamma,))
-    field("GasConstant", (r_gas,))
-    field("UpstreamMach", (mach,))
-    field("ConeHalfAngle", (half_angle,))
-    field("ConeTip", tip)
-    field("ConeAxis", axis)
-    field("ShockAngleTaylorMaccoll", (tm.shock_angle,))
-    field("ConePressureRatioTaylorMaccoll", (tm.cone_p_p1,))
-
-    os.makedirs(os.path.dirname(out), exist_ok=True)
-    w = vtkXMLUnstructuredGridWriter()
-    w.SetFileName(out)
-    w.SetInputData(grid)
-    w.SetDataModeToBinary()
-    w.SetCompressorTypeToZLib()
-    w.SetCompressionLevel(9)
-    if not w.Write():
-        sys.exit("writing %s failed" % out)
-
-    # ---- read back: plain VTK reader and the ParaView proxy
-    rd = vtkXMLUnstructuredGridReader()
-    rd.SetFileName(out)
-    rd.Update()
-    back = rd.GetOutput()
-    assert back.GetNumberOfCells() == grid.GetNumberOfCells()
-    assert back.GetNumberOfPoints() == grid.GetNumberOfPoints()
-    for d0, d1 in ((grid.GetPointData(), back.GetPointData()), (grid.GetCellData(), back.GetCellData())):
-        for i in range(d0.GetNumberOfArrays()):
-            n = d0.GetArrayName(i)
-            assert np.array_equal(nps.vtk_to_numpy(d0.GetArray(n)), nps.vtk_to_numpy(d1.GetArray(n))), n
-    assert np.all(nps.vtk_to_numpy(back.GetCellTypesArray()) == VTK_TETRA)
-    for i in range(grid.GetFieldData().GetNumberOfArrays()):
-        n = grid.GetFieldData().GetArrayName(i)
-        assert np.array_equal(nps.vtk_to_numpy(grid.GetFieldData().GetArray(n)),
-                              nps.vtk_to_numpy(back.GetFieldData().GetArray(n))), n
-    pv = simple.XMLUnstructuredGridReader(FileName=[out])
-    pv.UpdatePipeline()
-    info = pv.GetDataInformation()
-    assert info.GetNumberOfCells() == ncells and info.GetNumberOfPoints() == grid.GetNumberOfPoints()
-    pnames = sorted(pv.PointData.keys())
-    cnames = sorted(pv.CellData.keys())
-    assert pnames == cnames == sorted(KEEP + ("rhoU", "rhoE")), (pnames, cnames)
+    grid = foam_vtu.flow_grid(src, gamma)
+    for name, values in (("Gamma", (gamma,)), ("GasConstant", (r_gas,)), ("UpstreamMach", (mach,)),
+                         ("ConeHalfAngle", (half_angle,)), ("ConeTip", tip), ("ConeAxis", axis),
+                         ("ShockAngleTaylorMaccoll", (tm.shock_angle,)),
+                         ("ConePressureRatioTaylorMaccoll", (tm.cone_p_p1,))):
+        foam_vtu.add_field(grid, name, values)
+    back = foam_vtu.write_and_check(grid, out, VTK_TETRA)
 
     print("case        %s (time %s)" % (case, time_dir))
     print("gas         Cp %g, molWeight %g -> R %.6g, gamma %.6g" % (cp, mol_weight, r_gas, gamma))
@@ -307,14 +207,7 @@ def main(argv):
           "axis (%.6f, %.6f, %.6f)" % ((half_angle, dev) + tuple(tip) + tuple(axis)))
     print("shock       Taylor-Maccoll beta = %.4f deg; cone surface p/p1 = %.4f, Mach %.4f"
           % (tm.shock_angle, tm.cone_p_p1, tm.cone_mach))
-    print("mesh        %d points, %d cells (all VTK_TETRA)" % (grid.GetNumberOfPoints(), ncells))
-    print("point data  %s" % ", ".join(grid.GetPointData().GetArrayName(i)
-                                        for i in range(grid.GetPointData().GetNumberOfArrays())))
-    print("cell data   %s" % ", ".join(grid.GetCellData().GetArrayName(i)
-                                       for i in range(grid.GetCellData().GetNumberOfArrays())))
-    print("field data  %s" % ", ".join(grid.GetFieldData().GetArrayName(i)
-                                        for i in range(grid.GetFieldData().GetNumberOfArrays())))
-    print("wrote       %s (%d bytes, binary/base64, zlib); read back OK" % (out, os.path.getsize(out)))
+    foam_vtu.describe(grid, "VTK_TETRA", out)
     if not physics_check(back, tip, axis, half_angle, p_in, tm):
         print("FAILED: the measured shock angle is more than %g deg off Taylor-Maccoll (%s kept)"
               % (MAX_SHOCK_ANGLE_ERROR, out), file=sys.stderr)

@@ -1,0 +1,518 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "ARMedialAxis.h"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Triangulation_cell_base_with_info_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <sstream>
+#include <utility>
+
+namespace ar
+{
+namespace
+{
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_3<std::int64_t, Kernel>;
+using CellBase = CGAL::Delaunay_triangulation_cell_base_3<Kernel>;
+using CellBaseInfo = CGAL::Triangulation_cell_base_with_info_3<std::int64_t, Kernel, CellBase>;
+using Tds = CGAL::Triangulation_data_structure_3<VertexBase, CellBaseInfo>;
+using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
+using Mesh = CGAL::Surface_mesh<Point>;
+
+constexpr double Pi = 3.14159265358979323846;
+
+struct UnionFind
+{
+  std::vector<std::int64_t> Parent;
+  explicit UnionFind(std::size_t n)
+    : Parent(n)
+  {
+    std::iota(this->Parent.begin(), this->Parent.end(), std::int64_t(0));
+  }
+  std::int64_t Find(std::int64_t i)
+  {
+    while (this->Parent[i] != i)
+    {
+      this->Parent[i] = this->Parent[this->Parent[i]];
+      i = this->Parent[i];
+    }
+    return i;
+  }
+  void Union(std::int64_t a, std::int64_t b)
+  {
+    a = this->Find(a);
+    b = this->Find(b);
+    if (a != b)
+    {
+      // The smaller id becomes the root: the result does not depend on the order.
+      if (a < b)
+      {
+        this->Parent[b] = a;
+      }
+      else
+      {
+        this->Parent[a] = b;
+      }
+    }
+  }
+};
+
+bool Finite3(const double* v)
+{
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+double Distance(const double* a, const double* b)
+{
+  const double d[3] = { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
+  return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+double TriangleArea(const double* a, const double* b, const double* c)
+{
+  const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+  const double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+  const double w[3] = { u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+    u[0] * v[1] - u[1] * v[0] };
+  return 0.5 * std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+}
+
+/// Point-in-domain test on a closed triangulated surface (CGAL AABB tree).
+class DomainTest
+{
+public:
+  bool Build(const ClosedSurface& domain, std::string& error)
+  {
+    namespace PMP = CGAL::Polygon_mesh_processing;
+    const std::size_t np = domain.Points.size() / 3;
+    std::vector<Point> points;
+    points.reserve(np);
+    for (std::size_t i = 0; i < np; ++i)
+    {
+      const double* p = domain.Points.data() + 3 * i;
+      if (!Finite3(p))
+      {
+        error = "the domain boundary has a non-finite coordinate at point " + std::to_string(i) + ".";
+        return false;
+      }
+      points.emplace_back(p[0], p[1], p[2]);
+    }
+    std::vector<std::array<std::size_t, 3>> faces(domain.Triangles.size() / 3);
+    for (std::size_t t = 0; t < faces.size(); ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const std::int64_t id = domain.Triangles[3 * t + k];
+        if (id < 0 || static_cast<std::size_t>(id) >= np)
+        {
+          error = "the domain boundary has a triangle index out of range.";
+          return false;
+        }
+        faces[t][k] = static_cast<std::size_t>(id);
+      }
+    }
+    if (faces.empty())
+    {
+      error = "the domain boundary has no triangles.";
+      return false;
+    }
+    if (!PMP::is_polygon_soup_a_polygon_mesh(faces))
+    {
+      error = "the domain boundary is not a manifold, consistently oriented triangle mesh.";
+      return false;
+    }
+    PMP::polygon_soup_to_polygon_mesh(points, faces, this->Surface);
+    if (!CGAL::is_closed(this->Surface))
+    {
+      error = "the domain boundary is not closed (it has border edges).";
+      return false;
+    }
+    this->Inside = std::make_unique<CGAL::Side_of_triangle_mesh<Mesh, Kernel>>(this->Surface);
+    return true;
+  }
+
+  bool Contains(const Point& p) const
+  {
+    return (*this->Inside)(p) != CGAL::ON_UNBOUNDED_SIDE;
+  }
+
+private:
+  Mesh Surface;
+  std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh, Kernel>> Inside;
+};
+}
+
+bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double* normals,
+  const std::int64_t* triangles, std::size_t nTriangles, const MedialAxisOptions& options,
+  const ClosedSurface* domain, MedialSheet& out, std::string& error,
+  const ProgressCallback& progress)
+{
+  out = MedialSheet();
+  auto aborted = [&](double f) { return progress && progress(f); };
+
+  // ---- Validation.
+  if (nPoints < 4)
+  {
+    error = "the surface has " + std::to_string(nPoints) +
+      " points; a medial axis needs at least 4 that are not coplanar.";
+    return false;
+  }
+  if (nTriangles == 0)
+  {
+    error = "the surface has no triangles.";
+    return false;
+  }
+  for (std::size_t i = 0; i < nPoints; ++i)
+  {
+    if (!Finite3(points + 3 * i))
+    {
+      error = "surface point " + std::to_string(i) + " has a non-finite coordinate (NaN or Inf).";
+      return false;
+    }
+    if (!Finite3(normals + 3 * i))
+    {
+      error = "the normal at surface point " + std::to_string(i) + " is not finite.";
+      return false;
+    }
+  }
+  for (std::size_t k = 0; k < 3 * nTriangles; ++k)
+  {
+    if (triangles[k] < 0 || static_cast<std::size_t>(triangles[k]) >= nPoints)
+    {
+      error = "triangle " + std::to_string(k / 3) + " refers to point " +
+        std::to_string(triangles[k]) + ", which does not exist.";
+      return false;
+    }
+  }
+
+  // ---- Local surface edge length: each point's longest surface edge.
+  std::vector<double> edgeLength(nPoints, 0.0);
+  for (std::size_t t = 0; t < nTriangles; ++t)
+  {
+    const std::int64_t* tri = triangles + 3 * t;
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::int64_t a = tri[k], b = tri[(k + 1) % 3];
+      const double l = Distance(points + 3 * a, points + 3 * b);
+      edgeLength[a] = std::max(edgeLength[a], l);
+      edgeLength[b] = std::max(edgeLength[b], l);
+    }
+  }
+
+  std::unique_ptr<DomainTest> inDomain;
+  if (domain)
+  {
+    inDomain = std::make_unique<DomainTest>();
+    if (!inDomain->Build(*domain, error))
+    {
+      return false;
+    }
+  }
+
+  // ---- Delaunay tetrahedralization (spatially sorted insertion).
+  std::vector<std::pair<Point, std::int64_t>> input;
+  input.reserve(nPoints);
+  for (std::size_t i = 0; i < nPoints; ++i)
+  {
+    const double* p = points + 3 * i;
+    input.emplace_back(Point(p[0], p[1], p[2]), static_cast<std::int64_t>(i));
+  }
+  Delaunay dt(input.begin(), input.end());
+  input.clear();
+  input.shrink_to_fit();
+  if (dt.dimension() < 3)
+  {
+    error = "the " + std::to_string(nPoints) +
+      " surface points are all coplanar (or collinear): their Delaunay triangulation has "
+      "dimension " +
+      std::to_string(dt.dimension()) + " and no tetrahedra, so there is no region to take the medial axis of.";
+    return false;
+  }
+  if (dt.number_of_vertices() != nPoints)
+  {
+    std::vector<char> used(nPoints, 0);
+    for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v)
+    {
+      used[v->info()] = 1;
+    }
+    const auto first = std::find(used.begin(), used.end(), 0) - used.begin();
+    std::ostringstream msg;
+    msg << (nPoints - dt.number_of_vertices()) << " surface points coincide with other points (the "
+        << "first is point " << first << " at (" << points[3 * first] << ", "
+        << points[3 * first + 1] << ", " << points[3 * first + 2]
+        << ")). Merge them first (ParaView's Clean filter).";
+    error = msg.str();
+    return false;
+  }
+  if (aborted(0.4))
+  {
+    error = "aborted.";
+    return false;
+  }
+
+  // ---- Voronoi vertices of the finite tetrahedra and which of them are interior.
+  std::vector<Delaunay::Cell_handle> cells;
+  cells.reserve(dt.number_of_finite_cells());
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
+  {
+    c->info() = static_cast<std::int64_t>(cells.size());
+    cells.push_back(c);
+  }
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c)
+  {
+    if (dt.is_infinite(c))
+    {
+      c->info() = -1;
+    }
+  }
+  const std::size_t nCells = cells.size();
+  out.NumberOfTetrahedra = nCells;
+  std::vector<double> centre(3 * nCells), radius(nCells);
+  std::vector<char> keep(nCells, 0);
+  const double minRadiusFactor = std::max(0.0, options.MinimumRadiusFactor);
+  const double side = options.RegionAgainstNormals ? -1.0 : 1.0;
+  for (std::size_t i = 0; i < nCells; ++i)
+  {
+    const auto& c = cells[i];
+    const Point cc = CGAL::circumcenter(c->vertex(0)->point(), c->vertex(1)->point(),
+      c->vertex(2)->point(), c->vertex(3)->point());
+    double* x = centre.data() + 3 * i;
+    x[0] = cc.x();
+    x[1] = cc.y();
+    x[2] = cc.z();
+    double vote = 0.0, local = 0.0, r = 0.0;
+    for (int k = 0; k < 4; ++k)
+    {
+      const std::int64_t id = c->vertex(k)->info();
+      const double* p = points + 3 * id;
+      const double* n = normals + 3 * id;
+      const double d[3] = { x[0] - p[0], x[1] - p[1], x[2] - p[2] };
+      const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      r += len;
+      if (len > 0.0)
+      {
+        vote += (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / len;
+      }
+      local += edgeLength[id];
+    }
+    r *= 0.25;
+    local *= 0.25;
+    radius[i] = r;
+    keep[i] = Finite3(x) && side * vote > 0.0 && r >= minRadiusFactor * local;
+  }
+  if (inDomain)
+  {
+    for (std::size_t i = 0; i < nCells; ++i)
+    {
+      if (keep[i])
+      {
+        const double* x = centre.data() + 3 * i;
+        keep[i] = inDomain->Contains(Point(x[0], x[1], x[2]));
+      }
+    }
+  }
+  out.NumberOfInteriorTetrahedra =
+    static_cast<std::size_t>(std::count(keep.begin(), keep.end(), char(1)));
+  if (aborted(0.6))
+  {
+    error = "aborted.";
+    return false;
+  }
+
+  // ---- Coincident Voronoi vertices (cospherical surface points) become one point:
+  // neighbouring tetrahedra whose circumcentres agree to round-off.
+  UnionFind same(nCells);
+  for (std::size_t i = 0; i < nCells; ++i)
+  {
+    if (!keep[i])
+    {
+      continue;
+    }
+    const double tol = 1e-9 * radius[i];
+    for (int k = 0; k < 4; ++k)
+    {
+      const std::int64_t j = cells[i]->neighbor(k)->info();
+      if (j > static_cast<std::int64_t>(i) && keep[j] &&
+        Distance(centre.data() + 3 * i, centre.data() + 3 * j) <= tol)
+      {
+        same.Union(static_cast<std::int64_t>(i), j);
+      }
+    }
+  }
+
+  // ---- Voronoi facets dual to Delaunay edges with an interior ring of tetrahedra.
+  const double minAngle = std::clamp(options.MinimumObjectAngle, 0.0, 180.0) * Pi / 180.0;
+  const double sinHalf = std::sin(0.5 * minAngle);
+  std::vector<std::int64_t> facetOffsets{ 0 }; // polygons of (merged) cell ids
+  std::vector<std::int64_t> facetCells;
+  std::vector<std::pair<std::uint64_t, std::int64_t>> voronoiEdges; // (key, facet)
+  std::vector<std::int64_t> ring;
+  std::size_t edgeCount = 0;
+  const std::size_t nEdgesEstimate = dt.number_of_finite_edges();
+  for (auto e = dt.finite_edges_begin(); e != dt.finite_edges_end(); ++e)
+  {
+    if ((++edgeCount & 0xFFFF) == 0 &&
+      aborted(0.6 + 0.3 * static_cast<double>(edgeCount) / static_cast<double>(nEdgesEstimate)))
+    {
+      error = "aborted.";
+      return false;
+    }
+    const std::int64_t ip = e->first->vertex(e->second)->info();
+    const std::int64_t iq = e->first->vertex(e->third)->info();
+    const double pq = Distance(points + 3 * ip, points + 3 * iq);
+    ring.clear();
+    bool ok = true;
+    auto circulator = dt.incident_cells(*e);
+    const auto start = circulator;
+    do
+    {
+      const std::int64_t id = circulator->info();
+      // Angle pvq = 2 asin(|pq| / 2r) >= minAngle  <=>  |pq| >= 2 r sin(minAngle/2).
+      if (id < 0 || !keep[id] || pq < 2.0 * radius[id] * sinHalf)
+      {
+        ok = false;
+        break;
+      }
+      ring.push_back(id);
+      ++circulator;
+    } while (circulator != start);
+    if (!ok || ring.size() < 3)
+    {
+      continue;
+    }
+    const auto facet = static_cast<std::int64_t>(facetOffsets.size() - 1);
+    for (std::size_t k = 0; k < ring.size(); ++k)
+    {
+      const std::int64_t a = ring[k], b = ring[(k + 1) % ring.size()];
+      const auto lo = static_cast<std::uint64_t>(std::min(a, b));
+      const auto hi = static_cast<std::uint64_t>(std::max(a, b));
+      voronoiEdges.emplace_back(lo * static_cast<std::uint64_t>(nCells) + hi, facet);
+      facetCells.push_back(same.Find(ring[k]));
+    }
+    facetOffsets.push_back(static_cast<std::int64_t>(facetCells.size()));
+  }
+  const std::size_t nFacets = facetOffsets.size() - 1;
+  out.NumberOfFacets = nFacets;
+
+  // ---- Sheets: facets joined along Voronoi edges.
+  std::sort(voronoiEdges.begin(), voronoiEdges.end());
+  UnionFind sheets(nFacets);
+  for (std::size_t k = 1; k < voronoiEdges.size(); ++k)
+  {
+    if (voronoiEdges[k].first == voronoiEdges[k - 1].first)
+    {
+      sheets.Union(voronoiEdges[k].second, voronoiEdges[k - 1].second);
+    }
+  }
+  voronoiEdges.clear();
+  voronoiEdges.shrink_to_fit();
+
+  // Triangulate each facet as a fan (it is planar and convex: a Voronoi face),
+  // skipping the repeated vertices of merged circumcentres.
+  std::vector<std::int64_t> tris;   // cell ids
+  std::vector<std::int64_t> triFacet;
+  std::vector<double> facetArea(nFacets, 0.0);
+  std::vector<std::int64_t> poly;
+  for (std::size_t f = 0; f < nFacets; ++f)
+  {
+    poly.clear();
+    for (std::int64_t k = facetOffsets[f]; k < facetOffsets[f + 1]; ++k)
+    {
+      if (poly.empty() || poly.back() != facetCells[k])
+      {
+        poly.push_back(facetCells[k]);
+      }
+    }
+    while (poly.size() > 1 && poly.back() == poly.front())
+    {
+      poly.pop_back();
+    }
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+    {
+      const double area = TriangleArea(centre.data() + 3 * poly[0],
+        centre.data() + 3 * poly[k], centre.data() + 3 * poly[k + 1]);
+      if (area <= 0.0)
+      {
+        continue;
+      }
+      tris.insert(tris.end(), { poly[0], poly[k], poly[k + 1] });
+      triFacet.push_back(static_cast<std::int64_t>(f));
+      facetArea[f] += area;
+    }
+  }
+
+  // Sheet areas, largest first; ties by the smallest facet root (deterministic).
+  std::vector<std::int64_t> rootOfSheet;
+  std::vector<std::int64_t> sheetOfRoot(nFacets, -1);
+  std::vector<double> area;
+  for (std::size_t f = 0; f < nFacets; ++f)
+  {
+    const std::int64_t r = sheets.Find(static_cast<std::int64_t>(f));
+    if (sheetOfRoot[r] < 0)
+    {
+      sheetOfRoot[r] = static_cast<std::int64_t>(rootOfSheet.size());
+      rootOfSheet.push_back(r);
+      area.push_back(0.0);
+    }
+    area[sheetOfRoot[r]] += facetArea[f];
+  }
+  out.NumberOfSheetsFound = rootOfSheet.size();
+  std::vector<std::int64_t> order(rootOfSheet.size());
+  std::iota(order.begin(), order.end(), std::int64_t(0));
+  std::stable_sort(order.begin(), order.end(),
+    [&](std::int64_t a, std::int64_t b) { return area[a] > area[b]; });
+  std::vector<int> newSheetId(rootOfSheet.size(), -1);
+  const double largest = order.empty() ? 0.0 : area[order[0]];
+  for (std::size_t k = 0; k < order.size(); ++k)
+  {
+    const double a = area[order[k]];
+    if (a <= 0.0 || a < options.MinimumAreaFraction * largest ||
+      (options.MaximumNumberOfSheets > 0 &&
+        static_cast<int>(k) >= options.MaximumNumberOfSheets))
+    {
+      break;
+    }
+    newSheetId[order[k]] = static_cast<int>(k);
+    out.SheetAreas.push_back(a);
+  }
+
+  // ---- Output: compact points.
+  std::vector<std::int64_t> pointOf(nCells, -1);
+  for (std::size_t t = 0; t < triFacet.size(); ++t)
+  {
+    const int sheet = newSheetId[sheetOfRoot[sheets.Find(triFacet[t])]];
+    if (sheet < 0)
+    {
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::int64_t c = tris[3 * t + k];
+      if (pointOf[c] < 0)
+      {
+        pointOf[c] = static_cast<std::int64_t>(out.Radius.size());
+        out.Points.insert(out.Points.end(), centre.begin() + 3 * c, centre.begin() + 3 * c + 3);
+        out.Radius.push_back(radius[c]);
+      }
+      out.Triangles.push_back(pointOf[c]);
+    }
+    out.SheetId.push_back(sheet);
+  }
+  progress && progress(1.0);
+  return true;
+}
+}

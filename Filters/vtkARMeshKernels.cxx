@@ -2,6 +2,15 @@
 #include "vtkARMeshKernels.h"
 
 #include "vtkAlgorithm.h"
+#include "vtkAppendPolyData.h"
+#include "vtkCellData.h"
+#include "vtkDataSet.h"
+#include "vtkGeometryFilter.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStaticCleanPolyData.h"
+#include "vtkTriangleFilter.h"
 #include "vtkArrayDispatch.h"
 #include "vtkCellArray.h"
 #include "vtkCellType.h"
@@ -18,7 +27,9 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
+#include <map>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -418,4 +429,102 @@ vtkIdType vtkARMeshKernels::PackComponents(vtkDataArray* array, double* dest, in
     worker(array, dest, stride, offset, bad);
   }
   return bad;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+/// The boundary surface of this rank's piece of the domain, as triangles.
+vtkSmartPointer<vtkPolyData> BoundarySurface(vtkDataSet* domain)
+{
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  if (!domain || domain->GetNumberOfCells() == 0)
+  {
+    return surface;
+  }
+  vtkNew<vtkGeometryFilter> geometry; // drops faces between owned and ghost cells
+  geometry->SetInputData(domain);
+  vtkNew<vtkTriangleFilter> triangles;
+  triangles->SetInputConnection(geometry->GetOutputPort());
+  triangles->PassVertsOff();
+  triangles->PassLinesOff();
+  triangles->Update();
+  surface->ShallowCopy(triangles->GetOutput());
+  surface->GetPointData()->Initialize();
+  surface->GetCellData()->Initialize();
+  return surface;
+}
+
+/// Rank 0 gets the union of the ranks' boundary pieces. Faces between two
+/// pieces (distributed without ghost cells) appear once from each side:
+/// after merging coincident points they are dropped.
+vtkSmartPointer<vtkPolyData> GatherBoundary(vtkPolyData* local)
+{
+  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
+  vtkMultiProcessController* ctrl = (c && c->GetNumberOfProcesses() > 1) ? c : nullptr;
+  if (!ctrl)
+  {
+    return local;
+  }
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  ctrl->Gather(local, pieces, 0);
+  auto result = vtkSmartPointer<vtkPolyData>::New();
+  if (ctrl->GetLocalProcessId() != 0)
+  {
+    return result;
+  }
+  vtkNew<vtkAppendPolyData> append;
+  for (auto& piece : pieces)
+  {
+    if (auto* pd = vtkPolyData::SafeDownCast(piece))
+    {
+      append->AddInputData(pd);
+    }
+  }
+  if (append->GetNumberOfInputConnections(0) == 0)
+  {
+    return result;
+  }
+  vtkNew<vtkStaticCleanPolyData> merge;
+  merge->SetInputConnection(append->GetOutputPort());
+  merge->SetTolerance(0.0);
+  merge->Update();
+  vtkPolyData* merged = merge->GetOutput();
+  std::map<std::array<vtkIdType, 3>, int> count;
+  vtkIdType npts;
+  const vtkIdType* ids;
+  vtkCellArray* polys = merged->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    if (npts == 3)
+    {
+      std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
+      std::sort(key.begin(), key.end());
+      ++count[key];
+    }
+  }
+  vtkNew<vtkCellArray> kept;
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    if (npts != 3)
+    {
+      continue;
+    }
+    std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
+    std::sort(key.begin(), key.end());
+    if (count[key] == 1)
+    {
+      kept->InsertNextCell(3, ids);
+    }
+  }
+  result->SetPoints(merged->GetPoints());
+  result->SetPolys(kept);
+  return result;
+}
+
+}
+
+vtkSmartPointer<vtkPolyData> vtkARMeshKernels::GatherDomainBoundary(vtkDataSet* domain)
+{
+  return GatherBoundary(BoundarySurface(domain));
 }

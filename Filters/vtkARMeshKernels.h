@@ -15,6 +15,7 @@
 #include "vtkDataSetAttributes.h" // for vtkDataSetAttributes::DUPLICATECELL
 #include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
+#include "vtkSmartPointer.h" // for the return type of GatherDomainBoundary
 #include "vtkType.h"
 
 #include <atomic>
@@ -25,6 +26,8 @@
 class vtkAlgorithm;
 class vtkInformationVector;
 class vtkDataArray;
+class vtkDataSet;
+class vtkPolyData;
 class vtkDataSetAttributes;
 class vtkUnstructuredGrid;
 
@@ -184,6 +187,11 @@ public:
   /// stride `stride` starting at `offset`: dest[i*stride + offset + k].
   /// Returns the first tuple holding NaN or Inf, or -1.
   static vtkIdType PackComponents(vtkDataArray* array, double* dest, int stride, int offset);
+
+  /// The boundary surface of a (possibly distributed) volume mesh as
+  /// triangles, whole on rank 0 and empty on the other ranks. Faces between
+  /// two ranks' pieces are dropped. Collective: every rank must call it.
+  static vtkSmartPointer<vtkPolyData> GatherDomainBoundary(vtkDataSet* domain);
 };
 
 //------------------------------------------------------------------------------

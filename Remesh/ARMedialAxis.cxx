@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <numeric>
 #include <sstream>
@@ -90,6 +91,84 @@ double TriangleArea(const double* a, const double* b, const double* c)
     u[0] * v[1] - u[1] * v[0] };
   return 0.5 * std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
 }
+
+/// y = A x + b.
+struct Affine
+{
+  double A[3][3];
+  double b[3];
+
+  void Apply(const double* x, double* y) const
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      y[i] = this->A[i][0] * x[0] + this->A[i][1] * x[1] + this->A[i][2] * x[2] + this->b[i];
+    }
+  }
+  void ApplyLinear(const double* x, double* y) const
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      y[i] = this->A[i][0] * x[0] + this->A[i][1] * x[1] + this->A[i][2] * x[2];
+    }
+  }
+  /// this o other
+  Affine After(const Affine& other) const
+  {
+    Affine r;
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        r.A[i][j] = 0.0;
+        for (int k = 0; k < 3; ++k)
+        {
+          r.A[i][j] += this->A[i][k] * other.A[k][j];
+        }
+      }
+    }
+    this->ApplyLinear(other.b, r.b);
+    for (int i = 0; i < 3; ++i)
+    {
+      r.b[i] += this->b[i];
+    }
+    return r;
+  }
+  bool Near(const Affine& o, double lengthTol) const
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        if (std::abs(this->A[i][j] - o.A[i][j]) > 1e-9)
+        {
+          return false;
+        }
+      }
+      if (std::abs(this->b[i] - o.b[i]) > lengthTol)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+  static Affine Identity()
+  {
+    return Affine{ { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } }, { 0, 0, 0 } };
+  }
+};
+
+struct MirrorPlane
+{
+  double Origin[3];
+  double Normal[3]; ///< unit, pointing to the side that holds the surface
+  Affine Reflection;
+  double Distance(const double* x) const
+  {
+    return (x[0] - this->Origin[0]) * this->Normal[0] + (x[1] - this->Origin[1]) * this->Normal[1] +
+      (x[2] - this->Origin[2]) * this->Normal[2];
+  }
+};
 
 /// Point-in-domain test on a closed triangulated surface (CGAL AABB tree).
 class DomainTest
@@ -223,12 +302,171 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     }
   }
 
-  // ---- Delaunay tetrahedralization (spatially sorted insertion).
-  std::vector<std::pair<Point, std::int64_t>> input;
-  input.reserve(nPoints);
+  // ---- Symmetry planes: the surface and its mirror images.
+  double lo[3] = { points[0], points[1], points[2] }, hi[3] = { lo[0], lo[1], lo[2] };
   for (std::size_t i = 0; i < nPoints; ++i)
   {
-    const double* p = points + 3 * i;
+    for (int d = 0; d < 3; ++d)
+    {
+      lo[d] = std::min(lo[d], points[3 * i + d]);
+      hi[d] = std::max(hi[d], points[3 * i + d]);
+    }
+  }
+  const double diagonal = Distance(lo, hi);
+  const double samePoint = 1e-9 * diagonal;
+  std::vector<MirrorPlane> planes;
+  for (std::size_t k = 0; k + 5 < options.SymmetryPlanes.size(); k += 6)
+  {
+    MirrorPlane m;
+    const double* v = options.SymmetryPlanes.data() + k;
+    const double len = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
+    if (!Finite3(v) || !Finite3(v + 3) || !(len > 0.0))
+    {
+      error = "symmetry plane " + std::to_string(k / 6) + " has a zero or non-finite normal or origin.";
+      return false;
+    }
+    for (int d = 0; d < 3; ++d)
+    {
+      m.Origin[d] = v[d];
+      m.Normal[d] = v[3 + d] / len;
+    }
+    // The normal points to the side that holds most of the surface.
+    double side = 0.0;
+    for (std::size_t i = 0; i < nPoints; ++i)
+    {
+      const double dist = m.Distance(points + 3 * i);
+      side += dist > samePoint ? 1.0 : (dist < -samePoint ? -1.0 : 0.0);
+    }
+    if (side < 0.0)
+    {
+      for (double& c : m.Normal)
+      {
+        c = -c;
+      }
+    }
+    const double on = m.Origin[0] * m.Normal[0] + m.Origin[1] * m.Normal[1] + m.Origin[2] * m.Normal[2];
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        m.Reflection.A[i][j] = (i == j ? 1.0 : 0.0) - 2.0 * m.Normal[i] * m.Normal[j];
+      }
+      m.Reflection.b[i] = 2.0 * on * m.Normal[i];
+    }
+    planes.push_back(m);
+  }
+  // The copies: products of reflections, breadth first, up to 8 of them (two
+  // parallel planes generate an endless stack; 8 copies give the original
+  // four neighbours on each side).
+  std::vector<Affine> copies{ Affine::Identity() };
+  {
+    std::vector<Affine> frontier = copies;
+    const std::size_t maxCopies = 9;
+    while (!frontier.empty() && copies.size() < maxCopies && !planes.empty())
+    {
+      std::vector<Affine> next;
+      for (const Affine& t : frontier)
+      {
+        for (const MirrorPlane& m : planes)
+        {
+          const Affine r = m.Reflection.After(t);
+          bool known = false;
+          for (const Affine& c : copies)
+          {
+            known = known || c.Near(r, samePoint);
+          }
+          if (!known && copies.size() < maxCopies)
+          {
+            copies.push_back(r);
+            next.push_back(r);
+          }
+        }
+      }
+      frontier = std::move(next);
+    }
+  }
+  out.NumberOfMirrorCopies = copies.size() - 1;
+  std::vector<double> allPoints(points, points + 3 * nPoints);
+  std::vector<double> allNormals(normals, normals + 3 * nPoints);
+  std::vector<double> allEdgeLength = edgeLength;
+  if (copies.size() > 1)
+  {
+    // Mirror images that fall on an existing point (points on a plane) are not added.
+    const double cell = 1e3 * samePoint;
+    auto key = [cell](const double* x, int dx, int dy, int dz) {
+      return std::array<long long, 3>{ static_cast<long long>(std::floor(x[0] / cell)) + dx,
+        static_cast<long long>(std::floor(x[1] / cell)) + dy,
+        static_cast<long long>(std::floor(x[2] / cell)) + dz };
+    };
+    std::map<std::array<long long, 3>, std::vector<std::int64_t>> grid;
+    auto find = [&](const double* y) {
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz)
+          {
+            auto it = grid.find(key(y, dx, dy, dz));
+            if (it == grid.end())
+              continue;
+            for (std::int64_t j : it->second)
+            {
+              if (Distance(y, allPoints.data() + 3 * j) <= samePoint)
+                return true;
+            }
+          }
+      return false;
+    };
+    for (std::size_t i = 0; i < nPoints; ++i)
+    {
+      grid[key(points + 3 * i, 0, 0, 0)].push_back(static_cast<std::int64_t>(i));
+    }
+    for (std::size_t c = 1; c < copies.size(); ++c)
+    {
+      for (std::size_t i = 0; i < nPoints; ++i)
+      {
+        double y[3], n[3];
+        copies[c].Apply(points + 3 * i, y);
+        if (find(y))
+        {
+          continue;
+        }
+        copies[c].ApplyLinear(normals + 3 * i, n);
+        const auto id = static_cast<std::int64_t>(allEdgeLength.size());
+        allPoints.insert(allPoints.end(), y, y + 3);
+        allNormals.insert(allNormals.end(), n, n + 3);
+        allEdgeLength.push_back(edgeLength[i]);
+        grid[key(y, 0, 0, 0)].push_back(id);
+      }
+    }
+  }
+  const std::size_t nAll = allEdgeLength.size();
+  // Fold a point into the original side of every symmetry plane.
+  auto fold = [&](double* x) {
+    for (std::size_t pass = 0; pass < 2 * copies.size(); ++pass)
+    {
+      bool moved = false;
+      for (const MirrorPlane& m : planes)
+      {
+        if (m.Distance(x) < -samePoint)
+        {
+          double y[3];
+          m.Reflection.Apply(x, y);
+          std::copy(y, y + 3, x);
+          moved = true;
+        }
+      }
+      if (!moved)
+      {
+        return;
+      }
+    }
+  };
+
+  // ---- Delaunay tetrahedralization (spatially sorted insertion).
+  std::vector<std::pair<Point, std::int64_t>> input;
+  input.reserve(nAll);
+  for (std::size_t i = 0; i < nAll; ++i)
+  {
+    const double* p = allPoints.data() + 3 * i;
     input.emplace_back(Point(p[0], p[1], p[2]), static_cast<std::int64_t>(i));
   }
   Delaunay dt(input.begin(), input.end());
@@ -242,16 +480,22 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       std::to_string(dt.dimension()) + " and no tetrahedra, so there is no region to take the medial axis of.";
     return false;
   }
-  if (dt.number_of_vertices() != nPoints)
+  if (dt.number_of_vertices() != nAll)
   {
-    std::vector<char> used(nPoints, 0);
+    std::vector<char> used(nAll, 0);
     for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v)
     {
       used[v->info()] = 1;
     }
-    const auto first = std::find(used.begin(), used.end(), 0) - used.begin();
+    const auto first = std::find(used.begin(), used.begin() + nPoints, 0) - used.begin();
+    if (static_cast<std::size_t>(first) == nPoints)
+    {
+      error = "mirror images of the surface coincide with it away from the symmetry planes "
+              "(are two symmetry planes the same plane?).";
+      return false;
+    }
     std::ostringstream msg;
-    msg << (nPoints - dt.number_of_vertices()) << " surface points coincide with other points (the "
+    msg << (nAll - dt.number_of_vertices()) << " surface points coincide with other points (the "
         << "first is point " << first << " at (" << points[3 * first] << ", "
         << points[3 * first + 1] << ", " << points[3 * first + 2]
         << ")). Merge them first (ParaView's Clean filter).";
@@ -298,8 +542,8 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     for (int k = 0; k < 4; ++k)
     {
       const std::int64_t id = c->vertex(k)->info();
-      const double* p = points + 3 * id;
-      const double* n = normals + 3 * id;
+      const double* p = allPoints.data() + 3 * id;
+      const double* n = allNormals.data() + 3 * id;
       const double d[3] = { x[0] - p[0], x[1] - p[1], x[2] - p[2] };
       const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
       r += len;
@@ -307,7 +551,7 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       {
         vote += (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / len;
       }
-      local += edgeLength[id];
+      local += allEdgeLength[id];
     }
     r *= 0.25;
     local *= 0.25;
@@ -320,7 +564,8 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     {
       if (keep[i])
       {
-        const double* x = centre.data() + 3 * i;
+        double x[3] = { centre[3 * i], centre[3 * i + 1], centre[3 * i + 2] };
+        fold(x);
         keep[i] = inDomain->Contains(Point(x[0], x[1], x[2]));
       }
     }
@@ -373,7 +618,7 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     }
     const std::int64_t ip = e->first->vertex(e->second)->info();
     const std::int64_t iq = e->first->vertex(e->third)->info();
-    const double pq = Distance(points + 3 * ip, points + 3 * iq);
+    const double pq = Distance(allPoints.data() + 3 * ip, allPoints.data() + 3 * iq);
     ring.clear();
     bool ok = true;
     auto circulator = dt.incident_cells(*e);

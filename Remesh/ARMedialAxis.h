@@ -46,7 +46,7 @@ namespace ar
 struct MedialAxisOptions
 {
   /// Minimum angle pvq (degrees) at every Voronoi vertex v of a facet dual to pq.
-  double MinimumObjectAngle = 90.0;
+  double MinimumObjectAngle = 110.0;
   /// A Voronoi vertex whose ball radius is below this times the local surface
   /// edge length (the mean, over the tetrahedron's points, of each point's
   /// longest surface edge) is dropped.
@@ -58,6 +58,16 @@ struct MedialAxisOptions
   /// true: the region lies on the side opposite to the normals (outward normals,
   /// or ParaView's Contour normals for the region above the iso-value).
   bool RegionAgainstNormals = true;
+  /// Symmetry planes, 6 values each: a point and a normal (any length, any
+  /// sense). The surface is reflected across them (repeatedly: for two
+  /// parallel planes, as for a one-cell-thick 2-D mesh, the copies stack up)
+  /// and the medial sheet of the symmetric union is computed, so that the
+  /// sheet crosses each plane orthogonally instead of bending to close the
+  /// region there. The output then contains the mirrored copies of the sheet
+  /// too; cut it at the planes (the filter does). Points lying on a plane are
+  /// not duplicated. The domain test folds each Voronoi vertex back into the
+  /// original side of the planes first.
+  std::vector<double> SymmetryPlanes;
 };
 
 /// An optional closed triangulated surface (the boundary of the flow domain):
@@ -81,6 +91,7 @@ struct MedialSheet
   std::size_t NumberOfInteriorTetrahedra = 0;  ///< interior, after radius and domain tests
   std::size_t NumberOfFacets = 0;              ///< Voronoi facets kept (before the sheet filter)
   std::size_t NumberOfSheetsFound = 0;         ///< connected sheets before the sheet filter
+  std::size_t NumberOfMirrorCopies = 0;        ///< reflected copies of the surface added
 };
 
 /// Progress in [0,1]; return true to abort.
@@ -94,7 +105,8 @@ using ProgressCallback = std::function<bool(double)>;
  * Returns false with `error` naming the problem for: fewer than 4 points, no
  * triangles, a triangle index out of range, a non-finite coordinate or normal,
  * coincident points (CGAL would merge them silently), points that are all
- * coplanar, an open or non-manifold domain surface, or an abort.
+ * coplanar, an open or non-manifold domain surface, a symmetry plane with a
+ * zero or non-finite normal, or an abort.
  */
 bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double* normals,
   const std::int64_t* triangles, std::size_t nTriangles, const MedialAxisOptions& options,

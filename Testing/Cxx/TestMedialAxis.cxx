@@ -326,3 +326,99 @@ TEST(MedialAxis, RefusesBadInput)
   ar::ClosedSurface open{ { 0, 0, 0, 1, 0, 0, 0, 1, 0 }, { 0, 1, 2 } };
   EXPECT_NE(Refusal(Slab(), &open).find("not closed"), std::string::npos);
 }
+
+namespace
+{
+/// The slab's surface without the triangles on the planes y = y0 and (if
+/// `twoPlanes`) y = y1: open where a symmetry plane cuts the domain.
+Surface OpenSlab(double y0, double y1, int ny, bool twoPlanes)
+{
+  Surface s = MappedBoxSurface({ 32, ny, 4 }, [=](double u, double v, double w) {
+    return std::array<double, 3>{ 4.0 * u, y0 + 0.5 * (v + 1.0) * (y1 - y0), 0.5 * w };
+  });
+  std::vector<std::int64_t> kept;
+  for (std::size_t t = 0; t < s.NumberOfTriangles(); ++t)
+  {
+    bool onPlane0 = true, onPlane1 = true;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double y = s.Points[3 * s.Triangles[3 * t + k] + 1];
+      onPlane0 = onPlane0 && y == y0;
+      onPlane1 = onPlane1 && y == y1;
+    }
+    if (!onPlane0 && !(twoPlanes && onPlane1))
+      kept.insert(kept.end(), s.Triangles.begin() + 3 * t, s.Triangles.begin() + 3 * t + 3);
+  }
+  // Drop the points that only the removed triangles used (the inside of the
+  // open faces): they would close the region again.
+  std::vector<std::int64_t> newId(s.NumberOfPoints(), -1);
+  Surface open;
+  open.MaxEdge = s.MaxEdge;
+  for (std::int64_t& id : kept)
+  {
+    if (newId[id] < 0)
+    {
+      newId[id] = static_cast<std::int64_t>(open.NumberOfPoints());
+      open.Points.insert(open.Points.end(), s.Points.begin() + 3 * id, s.Points.begin() + 3 * id + 3);
+      open.Normals.insert(open.Normals.end(), s.Normals.begin() + 3 * id, s.Normals.begin() + 3 * id + 3);
+    }
+    open.Triangles.push_back(newId[id]);
+  }
+  return open;
+}
+}
+
+TEST(MedialAxis, SymmetryPlaneMakesTheSheetMeetItOrthogonally)
+{
+  // Half a slab, y in [0, 4], open at the symmetry plane y = 0. Mirrored, the
+  // union is the whole slab: its sheet is z = 0 right up to (and across) y = 0.
+  const Surface half = OpenSlab(0.0, 4.0, 16, false);
+  ar::MedialAxisOptions o;
+  o.SymmetryPlanes = { 0.0, 0.0, 0.0, 0.0, -3.0, 0.0 }; // normal sense and length do not matter
+  const ar::MedialSheet m = Medial(half, o);
+  EXPECT_EQ(m.NumberOfMirrorCopies, 1u);
+  ASSERT_FALSE(m.Triangles.empty());
+  const double e = half.MaxEdge;
+  double ymin = 1e9;
+  for (std::size_t i = 0; i < m.Radius.size(); ++i)
+  {
+    const double* x = &m.Points[3 * i];
+    if (std::abs(x[0]) < 3.0 && x[1] > -3.0 && x[1] < 3.0)
+    {
+      EXPECT_LE(std::abs(x[2]), e) << "point " << i;
+      if (x[1] >= 0.0)
+        ymin = std::min(ymin, x[1]);
+    }
+  }
+  EXPECT_LE(ymin, e); // reaches the plane
+  // Symmetric: the sheet's area on the mirrored side is the original side's
+  // (not to round-off: CGAL resolves the cospherical points of the lattice
+  // differently on the two sides).
+  const double plus = SheetArea(m, [](const double* g) { return std::abs(g[0]) < 3.0 && g[1] > 0.0 && g[1] < 3.0; });
+  const double minus = SheetArea(m, [](const double* g) { return std::abs(g[0]) < 3.0 && g[1] < 0.0 && g[1] > -3.0; });
+  EXPECT_NEAR(plus, 18.0, 0.05 * 18.0);
+  EXPECT_NEAR(minus, plus, 0.05 * plus);
+}
+
+TEST(MedialAxis, TwoParallelSymmetryPlanesLikeATwoDimensionalMesh)
+{
+  // A slab one "cell" deep in y (as an OpenFOAM 2-D case is), open at both
+  // y = 0 and y = 0.25: without symmetry planes every surface point is on the
+  // convex hull and no Voronoi facet is interior; with them the copies stack
+  // up and the sheet is z = 0 across the whole depth.
+  const Surface thin = OpenSlab(0.0, 0.25, 1, true);
+  EXPECT_TRUE(Medial(thin).Triangles.empty());
+  ar::MedialAxisOptions o;
+  o.SymmetryPlanes = { 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.25, 0.0, 0.0, 1.0, 0.0 };
+  const ar::MedialSheet m = Medial(thin, o);
+  EXPECT_EQ(m.NumberOfMirrorCopies, 8u);
+  ASSERT_FALSE(m.Triangles.empty());
+  for (std::size_t i = 0; i < m.Radius.size(); ++i)
+  {
+    const double* x = &m.Points[3 * i];
+    if (std::abs(x[0]) < 3.0)
+      EXPECT_LE(std::abs(x[2]), thin.MaxEdge) << "point " << i;
+  }
+  const double inside = SheetArea(m, [](const double* g) { return std::abs(g[0]) < 3.0 && g[1] > 0.0 && g[1] < 0.25; });
+  EXPECT_NEAR(inside, 6.0 * 0.25, 0.05 * 6.0 * 0.25);
+}

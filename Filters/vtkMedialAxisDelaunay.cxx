@@ -1,0 +1,608 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkMedialAxisDelaunay.h"
+
+#include "ARMedialAxis.h"
+#include "vtkARMeshKernels.h"
+
+#include "vtkAppendPolyData.h"
+#include "vtkCellArray.h"
+#include "vtkCell.h"
+#include "vtkCellData.h"
+#include "vtkClipPolyData.h"
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkFeatureEdges.h"
+#include "vtkFieldData.h"
+#include "vtkGeometryFilter.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPlane.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataNormals.h"
+#include "vtkSmartPointer.h"
+#include "vtkSmoothPolyDataFilter.h"
+#include "vtkStaticCleanPolyData.h"
+#include "vtkTriangle.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkWindowedSincPolyDataFilter.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkMedialAxisDelaunay);
+
+namespace
+{
+vtkMultiProcessController* Controller()
+{
+  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
+  return (c && c->GetNumberOfProcesses() > 1) ? c : nullptr;
+}
+
+/// This rank's surface without the triangles of ghost cells, as polydata.
+vtkSmartPointer<vtkPolyData> LocalSurface(vtkDataSet* input)
+{
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  if (!input || input->GetNumberOfCells() == 0)
+  {
+    return surface;
+  }
+  vtkPolyData* pd = vtkPolyData::SafeDownCast(input);
+  if (!pd)
+  {
+    vtkNew<vtkGeometryFilter> geometry;
+    geometry->SetInputData(input);
+    geometry->Update();
+    surface->ShallowCopy(geometry->GetOutput());
+    return surface;
+  }
+  vtkUnsignedCharArray* ghosts = pd->GetCellGhostArray();
+  if (!ghosts)
+  {
+    surface->ShallowCopy(pd);
+    return surface;
+  }
+  vtkNew<vtkGeometryFilter> geometry; // drops ghost cells
+  geometry->SetInputData(pd);
+  geometry->Update();
+  surface->ShallowCopy(geometry->GetOutput());
+  return surface;
+}
+
+/// Rank 0 gets the union of the ranks' surfaces with the points of piece
+/// interfaces merged and triangles made twice (from both sides) kept once.
+vtkSmartPointer<vtkPolyData> GatherSurface(vtkPolyData* local)
+{
+  vtkMultiProcessController* ctrl = Controller();
+  if (!ctrl)
+  {
+    return local;
+  }
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  ctrl->Gather(local, pieces, 0);
+  auto result = vtkSmartPointer<vtkPolyData>::New();
+  if (ctrl->GetLocalProcessId() != 0)
+  {
+    return result;
+  }
+  vtkNew<vtkAppendPolyData> append;
+  for (auto& piece : pieces)
+  {
+    auto* pd = vtkPolyData::SafeDownCast(piece);
+    if (pd && pd->GetNumberOfCells() > 0)
+    {
+      append->AddInputData(pd);
+    }
+  }
+  if (append->GetNumberOfInputConnections(0) == 0)
+  {
+    return result;
+  }
+  vtkNew<vtkStaticCleanPolyData> merge;
+  merge->SetInputConnection(append->GetOutputPort());
+  merge->SetTolerance(0.0);
+  merge->Update();
+  vtkPolyData* merged = merge->GetOutput();
+  std::set<std::array<vtkIdType, 3>> seen;
+  vtkNew<vtkCellArray> kept;
+  vtkIdType npts;
+  const vtkIdType* ids;
+  vtkCellArray* polys = merged->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    if (npts == 3)
+    {
+      std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
+      std::sort(key.begin(), key.end());
+      if (!seen.insert(key).second)
+      {
+        continue;
+      }
+    }
+    kept->InsertNextCell(npts, ids);
+  }
+  result->ShallowCopy(merged);
+  result->SetPolys(kept);
+  return result;
+}
+
+const char* CellKind(int npts)
+{
+  return npts == 4 ? "quadrilateral" : "polygon";
+}
+}
+
+//------------------------------------------------------------------------------
+vtkMedialAxisDelaunay::vtkMedialAxisDelaunay()
+{
+  this->SetNumberOfInputPorts(2);
+}
+
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::SetNumberOfSymmetryPlaneValues(int n)
+{
+  n = std::max(0, n);
+  if (static_cast<int>(this->SymmetryPlanes.size()) != n)
+  {
+    this->SymmetryPlanes.resize(n, 0.0);
+    this->Modified();
+  }
+}
+
+void vtkMedialAxisDelaunay::SetSymmetryPlaneValue(int i, double value)
+{
+  if (i >= static_cast<int>(this->SymmetryPlanes.size()))
+  {
+    this->SymmetryPlanes.resize(i + 1, 0.0);
+  }
+  if (i >= 0 && this->SymmetryPlanes[i] != value)
+  {
+    this->SymmetryPlanes[i] = value;
+    this->Modified();
+  }
+}
+
+void vtkMedialAxisDelaunay::AddSymmetryPlane(const double origin[3], const double normal[3])
+{
+  this->SymmetryPlanes.insert(
+    this->SymmetryPlanes.end(), { origin[0], origin[1], origin[2], normal[0], normal[1], normal[2] });
+  this->Modified();
+}
+
+void vtkMedialAxisDelaunay::RemoveAllSymmetryPlanes()
+{
+  if (!this->SymmetryPlanes.empty())
+  {
+    this->SymmetryPlanes.clear();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkMedialAxisDelaunay::FillInputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  if (port == 1)
+  {
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkMedialAxisDelaunay::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkDataSet* input = vtkDataSet::GetData(inputVector[0], 0);
+  const bool hasDomain = this->GetNumberOfInputConnections(1) > 0;
+  vtkDataSet* domain = hasDomain ? vtkDataSet::GetData(inputVector[1], 0) : nullptr;
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  output->Initialize();
+  vtkMultiProcessController* ctrl = Controller();
+  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
+
+  // Collective steps first, so that every rank reaches them.
+  vtkSmartPointer<vtkPolyData> surface = GatherSurface(LocalSurface(input));
+  vtkSmartPointer<vtkPolyData> boundary;
+  if (hasDomain)
+  {
+    boundary = vtkARMeshKernels::GatherDomainBoundary(domain);
+  }
+  if (!root)
+  {
+    return 1;
+  }
+  auto fail = [&](const std::string& message) {
+    vtkErrorMacro(<< message << " The output is empty.");
+    output->Initialize();
+    return 1;
+  };
+
+  // ---- The surface: triangles only, finite coordinates.
+  const vtkIdType nCells = surface->GetNumberOfCells();
+  if (nCells == 0 || surface->GetNumberOfPoints() == 0)
+  {
+    return fail("The input surface is empty (no cells): there is no region to take the medial "
+                "axis of. Check the iso-value of the Contour upstream.");
+  }
+  if (surface->GetNumberOfVerts() || surface->GetNumberOfLines() || surface->GetNumberOfStrips())
+  {
+    return fail("The input has vertices, lines or triangle strips; MedialAxisDelaunay needs a "
+                "surface of triangles (apply Triangulate, or Extract Surface then Triangulate).");
+  }
+  {
+    vtkIdType npts;
+    const vtkIdType* ids;
+    vtkCellArray* polys = surface->GetPolys();
+    vtkIdType cell = 0;
+    for (polys->InitTraversal(); polys->GetNextCell(npts, ids); ++cell)
+    {
+      if (npts != 3)
+      {
+        std::ostringstream msg;
+        msg << "Cell " << cell << " of the input surface is a " << CellKind(static_cast<int>(npts))
+            << " with " << npts
+            << " points; MedialAxisDelaunay needs triangles (apply the Triangulate filter first).";
+        return fail(msg.str());
+      }
+    }
+  }
+  const vtkIdType nPoints = surface->GetNumberOfPoints();
+  for (vtkIdType i = 0; i < nPoints; ++i)
+  {
+    double x[3];
+    surface->GetPoint(i, x);
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+    {
+      std::ostringstream msg;
+      msg << "Point " << i << " of the input surface has a non-finite coordinate (NaN or Inf).";
+      return fail(msg.str());
+    }
+  }
+  this->UpdateProgress(0.05);
+
+  // ---- Smoothing (points keep their ids).
+  vtkSmartPointer<vtkPolyData> work = vtkSmartPointer<vtkPolyData>::New();
+  work->CopyStructure(surface);
+  vtkDataArray* givenNormals = surface->GetPointData()->GetNormals();
+  if (!givenNormals)
+  {
+    givenNormals = surface->GetPointData()->GetArray("Normals");
+  }
+  if (givenNormals && givenNormals->GetNumberOfComponents() != 3)
+  {
+    givenNormals = nullptr;
+  }
+  if (this->Smoothing != NO_SMOOTHING && this->SmoothingIterations > 0)
+  {
+    vtkSmartPointer<vtkPolyDataAlgorithm> smoother;
+    if (this->Smoothing == WINDOWED_SINC)
+    {
+      auto sinc = vtkSmartPointer<vtkWindowedSincPolyDataFilter>::New();
+      sinc->SetNumberOfIterations(this->SmoothingIterations);
+      sinc->SetPassBand(this->PassBand);
+      sinc->BoundarySmoothingOff(); // open edges at the domain boundary stay there
+      sinc->FeatureEdgeSmoothingOff();
+      sinc->NonManifoldSmoothingOn();
+      sinc->NormalizeCoordinatesOn();
+      smoother = sinc;
+    }
+    else
+    {
+      auto laplace = vtkSmartPointer<vtkSmoothPolyDataFilter>::New();
+      laplace->SetNumberOfIterations(this->SmoothingIterations);
+      laplace->SetRelaxationFactor(this->RelaxationFactor);
+      laplace->BoundarySmoothingOff();
+      laplace->FeatureEdgeSmoothingOff();
+      smoother = laplace;
+    }
+    smoother->SetInputData(work);
+    smoother->Update();
+    if (smoother->GetOutput()->GetNumberOfPoints() != nPoints)
+    {
+      return fail("Smoothing changed the number of surface points.");
+    }
+    work = vtkSmartPointer<vtkPolyData>::New();
+    work->CopyStructure(smoother->GetOutput());
+    // Points on a symmetry plane stay on it (a one-cell-thick 2-D mesh has all
+    // its contour points there).
+    std::vector<double> planes = this->SymmetryPlanes;
+    planes.resize(6 * this->GetNumberOfSymmetryPlanes());
+    if (this->UseSymmetryPlaneWidget)
+    {
+      planes.insert(planes.end(), this->SymmetryPlaneOrigin, this->SymmetryPlaneOrigin + 3);
+      planes.insert(planes.end(), this->SymmetryPlaneNormal, this->SymmetryPlaneNormal + 3);
+    }
+    const double tol = 1e-6 * std::sqrt(surface->GetLength2());
+    vtkNew<vtkPoints> moved;
+    moved->DeepCopy(work->GetPoints());
+    for (std::size_t k = 0; k + 5 < planes.size(); k += 6)
+    {
+      double n[3] = { planes[k + 3], planes[k + 4], planes[k + 5] };
+      if (vtkMath::Normalize(n) <= 0.0)
+      {
+        continue;
+      }
+      for (vtkIdType i = 0; i < nPoints; ++i)
+      {
+        double x[3], y[3];
+        surface->GetPoint(i, x);
+        if (std::abs(vtkPlane::Evaluate(n, &planes[k], x)) <= tol)
+        {
+          moved->GetPoint(i, y);
+          const double d = vtkPlane::Evaluate(n, &planes[k], y);
+          moved->SetPoint(i, y[0] - d * n[0], y[1] - d * n[1], y[2] - d * n[2]);
+        }
+      }
+    }
+    work->SetPoints(moved);
+  }
+  this->UpdateProgress(0.1);
+
+  // ---- Oriented point normals of the (smoothed) surface.
+  vtkNew<vtkPolyDataNormals> normalsFilter;
+  normalsFilter->SetInputData(work);
+  normalsFilter->ComputePointNormalsOn();
+  normalsFilter->ComputeCellNormalsOff();
+  normalsFilter->SplittingOff();
+  if (givenNormals)
+  {
+    normalsFilter->ConsistencyOff();
+    normalsFilter->AutoOrientNormalsOff();
+  }
+  else
+  {
+    normalsFilter->ConsistencyOn();
+    normalsFilter->AutoOrientNormalsOn(); // outward for closed surfaces
+    vtkNew<vtkFeatureEdges> open;
+    open->SetInputData(work);
+    open->BoundaryEdgesOn();
+    open->FeatureEdgesOff();
+    open->ManifoldEdgesOff();
+    open->NonManifoldEdgesOff();
+    open->Update();
+    if (open->GetOutput()->GetNumberOfCells() > 0)
+    {
+      vtkWarningMacro(<< "The input surface is open and has no 'Normals' point array, so which "
+                         "side is the feature region is a guess (normals oriented outwards per "
+                         "connected piece). Use Contour with Compute Normals on.");
+    }
+  }
+  normalsFilter->Update();
+  vtkDataArray* computed = normalsFilter->GetOutput()->GetPointData()->GetNormals();
+  if (!computed || normalsFilter->GetOutput()->GetNumberOfPoints() != nPoints)
+  {
+    return fail("Could not compute point normals of the input surface.");
+  }
+  std::vector<double> points(3 * nPoints), normals(3 * nPoints);
+  for (vtkIdType i = 0; i < nPoints; ++i)
+  {
+    work->GetPoint(i, &points[3 * i]);
+    double n[3];
+    computed->GetTuple(i, n);
+    if (givenNormals)
+    {
+      // The geometry of the smoothed surface, the orientation of the given normals.
+      double g[3];
+      givenNormals->GetTuple(i, g);
+      if (n[0] * g[0] + n[1] * g[1] + n[2] * g[2] < 0.0)
+      {
+        n[0] = -n[0];
+        n[1] = -n[1];
+        n[2] = -n[2];
+      }
+    }
+    std::copy(n, n + 3, &normals[3 * i]);
+  }
+  std::vector<std::int64_t> triangles;
+  triangles.reserve(3 * nCells);
+  {
+    vtkIdType npts;
+    const vtkIdType* ids;
+    vtkCellArray* polys = work->GetPolys();
+    for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+    {
+      triangles.insert(triangles.end(), { ids[0], ids[1], ids[2] });
+    }
+  }
+
+  // ---- The domain boundary.
+  ar::ClosedSurface closed;
+  if (hasDomain)
+  {
+    if (!boundary || boundary->GetNumberOfCells() == 0)
+    {
+      return fail("The Domain input has no boundary surface (is it an empty or 2-D dataset?).");
+    }
+    closed.Points.resize(3 * boundary->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < boundary->GetNumberOfPoints(); ++i)
+    {
+      boundary->GetPoint(i, &closed.Points[3 * i]);
+    }
+    vtkIdType npts;
+    const vtkIdType* ids;
+    vtkCellArray* polys = boundary->GetPolys();
+    for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+    {
+      if (npts == 3)
+      {
+        closed.Triangles.insert(closed.Triangles.end(), { ids[0], ids[1], ids[2] });
+      }
+    }
+  }
+  this->UpdateProgress(0.15);
+
+  // ---- The medial sheet.
+  ar::MedialAxisOptions options;
+  options.MinimumObjectAngle = this->MinimumObjectAngle;
+  options.MinimumRadiusFactor = this->MinimumRadiusFactor;
+  options.MinimumAreaFraction = this->MinimumAreaFraction;
+  options.MaximumNumberOfSheets = this->MaximumNumberOfSheets;
+  options.RegionAgainstNormals = this->FeatureRegion == ABOVE_ISOVALUE;
+  options.SymmetryPlanes.assign(this->SymmetryPlanes.begin(),
+    this->SymmetryPlanes.begin() + 6 * this->GetNumberOfSymmetryPlanes());
+  if (this->UseSymmetryPlaneWidget)
+  {
+    options.SymmetryPlanes.insert(options.SymmetryPlanes.end(), this->SymmetryPlaneOrigin,
+      this->SymmetryPlaneOrigin + 3);
+    options.SymmetryPlanes.insert(options.SymmetryPlanes.end(), this->SymmetryPlaneNormal,
+      this->SymmetryPlaneNormal + 3);
+  }
+  ar::MedialSheet sheet;
+  std::string error;
+  const bool ok = ar::ComputeMedialSheet(points.data(), static_cast<std::size_t>(nPoints),
+    normals.data(), triangles.data(), triangles.size() / 3, options,
+    hasDomain ? &closed : nullptr, sheet, error, [this](double f) {
+      this->UpdateProgress(0.15 + 0.75 * f);
+      return this->GetAbortExecute() != 0;
+    });
+  if (!ok)
+  {
+    return fail("Medial axis: " + error);
+  }
+
+  // ---- Output.
+  const auto nOut = static_cast<vtkIdType>(sheet.Radius.size());
+  vtkNew<vtkPoints> outPoints;
+  outPoints->SetDataTypeToDouble();
+  outPoints->SetNumberOfPoints(nOut);
+  vtkNew<vtkDoubleArray> radius;
+  radius->SetName("Radius");
+  radius->SetNumberOfTuples(nOut);
+  for (vtkIdType i = 0; i < nOut; ++i)
+  {
+    outPoints->SetPoint(i, &sheet.Points[3 * i]);
+    radius->SetValue(i, sheet.Radius[i]);
+  }
+  const auto nTri = static_cast<vtkIdType>(sheet.SheetId.size());
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateExact(nTri, 3 * nTri);
+  vtkNew<vtkIntArray> sheetId;
+  sheetId->SetName("SheetId");
+  sheetId->SetNumberOfTuples(nTri);
+  for (vtkIdType t = 0; t < nTri; ++t)
+  {
+    const vtkIdType ids[3] = { sheet.Triangles[3 * t], sheet.Triangles[3 * t + 1],
+      sheet.Triangles[3 * t + 2] };
+    polys->InsertNextCell(3, ids);
+    sheetId->SetValue(t, sheet.SheetId[t]);
+  }
+  vtkNew<vtkPolyData> result;
+  result->SetPoints(outPoints);
+  result->SetPolys(polys);
+  result->GetPointData()->AddArray(radius);
+  result->GetCellData()->AddArray(sheetId);
+
+  // ---- Symmetry planes: keep the original side of each plane (the sheet of
+  // the mirrored union crosses the plane orthogonally, so the cut edge meets
+  // it orthogonally too); then close the gaps the pruning left short of the plane.
+  std::vector<double> sheetAreas = sheet.SheetAreas;
+  if (!options.SymmetryPlanes.empty())
+  {
+    vtkSmartPointer<vtkPolyData> current = result.Get();
+    const std::size_t nPlanes = options.SymmetryPlanes.size() / 6;
+    for (std::size_t k = 0; k < nPlanes; ++k)
+    {
+      const double* v = options.SymmetryPlanes.data() + 6 * k;
+      double normal[3] = { v[3], v[4], v[5] };
+      double side = 0.0;
+      for (vtkIdType i = 0; i < nPoints; ++i)
+      {
+        const double* x = &points[3 * i];
+        const double d = (x[0] - v[0]) * normal[0] + (x[1] - v[1]) * normal[1] + (x[2] - v[2]) * normal[2];
+        side += d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
+      }
+      if (side < 0.0)
+      {
+        normal[0] = -normal[0];
+        normal[1] = -normal[1];
+        normal[2] = -normal[2];
+      }
+      vtkNew<vtkPlane> plane;
+      plane->SetOrigin(v[0], v[1], v[2]);
+      plane->SetNormal(normal);
+      vtkNew<vtkClipPolyData> clip;
+      clip->SetInputData(current);
+      clip->SetClipFunction(plane);
+      clip->Update();
+      current = vtkSmartPointer<vtkPolyData>::New();
+      current->ShallowCopy(clip->GetOutput());
+    }
+    // Sheet areas of what is left.
+    vtkDataArray* ids = current->GetCellData()->GetArray("SheetId");
+    std::fill(sheetAreas.begin(), sheetAreas.end(), 0.0);
+    for (vtkIdType t = 0; ids && t < current->GetNumberOfCells(); ++t)
+    {
+      const auto id = static_cast<std::size_t>(ids->GetComponent(t, 0));
+      vtkCell* cell = current->GetCell(t);
+      double a[3], b[3], c[3];
+      cell->GetPoints()->GetPoint(0, a);
+      cell->GetPoints()->GetPoint(1, b);
+      cell->GetPoints()->GetPoint(2, c);
+      if (id < sheetAreas.size())
+      {
+        sheetAreas[id] += vtkTriangle::TriangleArea(a, b, c);
+      }
+    }
+    result->ShallowCopy(current);
+  }
+  output->ShallowCopy(result);
+
+  vtkNew<vtkDoubleArray> areas;
+  areas->SetName("SheetAreas");
+  for (double a : sheetAreas)
+  {
+    areas->InsertNextValue(a);
+  }
+  output->GetFieldData()->AddArray(areas);
+  auto count = [&](const char* name, std::size_t value) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->InsertNextValue(static_cast<double>(value));
+    output->GetFieldData()->AddArray(a);
+  };
+  count("DelaunayTetrahedra", sheet.NumberOfTetrahedra);
+  count("InteriorTetrahedra", sheet.NumberOfInteriorTetrahedra);
+  count("VoronoiFacets", sheet.NumberOfFacets);
+  count("MirrorCopies", sheet.NumberOfMirrorCopies);
+  if (output->GetNumberOfCells() == 0)
+  {
+    vtkWarningMacro(<< "No medial sheet survived the pruning (" << sheet.NumberOfInteriorTetrahedra
+                    << " of " << sheet.NumberOfTetrahedra
+                    << " Delaunay tetrahedra are interior). Check FeatureRegion (the side of "
+                       "the normals), or lower MinimumObjectAngle / MinimumRadiusFactor.");
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Smoothing: " << this->Smoothing << "\n";
+  os << indent << "SmoothingIterations: " << this->SmoothingIterations << "\n";
+  os << indent << "PassBand: " << this->PassBand << "\n";
+  os << indent << "RelaxationFactor: " << this->RelaxationFactor << "\n";
+  os << indent << "FeatureRegion: " << this->FeatureRegion << "\n";
+  os << indent << "MinimumObjectAngle: " << this->MinimumObjectAngle << "\n";
+  os << indent << "MinimumRadiusFactor: " << this->MinimumRadiusFactor << "\n";
+  os << indent << "MinimumAreaFraction: " << this->MinimumAreaFraction << "\n";
+  os << indent << "MaximumNumberOfSheets: " << this->MaximumNumberOfSheets << "\n";
+  os << indent << "SymmetryPlanes: " << this->GetNumberOfSymmetryPlanes() << "\n";
+  os << indent << "UseSymmetryPlaneWidget: " << this->UseSymmetryPlaneWidget << "\n";
+  os << indent << "SymmetryTrimDistance: " << this->SymmetryTrimDistance << "\n";
+}

@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class vtkMedialAxisDelaunay
+ * @brief Medial sheet of a feature region bounded by a triangulated
+ *        isosurface, from the circumcentres of its Delaunay tetrahedra.
+ *
+ * The discrete surface-based approach of the paper (section 2.3): the input
+ * is a triangulated surface around a feature region, typically ParaView's
+ * Contour of `WeightFunction` on the solution. It may be in several pieces,
+ * open where it meets the domain boundary, noisy, with holes.
+ *
+ * 1. Optional smoothing of the surface (windowed sinc or Laplacian; VTK).
+ * 2. Delaunay tetrahedralization of the surface points (CGAL, exact
+ *    predicates). A tetrahedron is interior when its circumcentre lies on the
+ *    region's side of the oriented point normals at its four points (needs no
+ *    closed surface), and, with a Domain connected, inside the domain.
+ * 3. The medial sheet: the Voronoi facets dual to Delaunay edges whose ring of
+ *    tetrahedra is interior, pruned by the object angle (Dey and Zhao 2004),
+ *    by the pole radius relative to the local surface edge length, and by
+ *    sheet area. See ARMedialAxis.h for the details.
+ * 4. Optional symmetry planes: the sheet is trimmed a little short of each
+ *    plane and its open edges there are extended to meet the plane
+ *    orthogonally (vtkExtendToPlane), so that one sheet spans between
+ *    symmetry planes (the repair the paper made by hand, its Figure 2c).
+ *
+ * Orientation: ParaView's Contour gives point normals that point out of the
+ * region above the iso-value (towards lower values). FeatureRegion
+ * ABOVE_ISOVALUE (default) takes the region the normals point away from;
+ * BELOW_ISOVALUE the other side. Without a `Normals` point array the normals
+ * are computed and oriented outwards (right for a closed surface; an open
+ * surface without normals gets a warning).
+ *
+ * Output: vtkPolyData of triangles with point array `Radius` (the inscribed
+ * ball radius), cell arrays `SheetId` (0 = largest) and `Extended` (1 on the
+ * strips added at symmetry planes); field data `SheetAreas`,
+ * `DelaunayTetrahedra`, `InteriorTetrahedra`, `VoronoiFacets`.
+ *
+ * Under MPI the surface pieces (and the domain boundary) are gathered to
+ * rank 0, which computes the sheet; the other ranks output nothing.
+ */
+#ifndef vtkMedialAxisDelaunay_h
+#define vtkMedialAxisDelaunay_h
+
+#include "AdaptiveRedistributionFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <vector> // for the symmetry planes
+
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkMedialAxisDelaunay : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkMedialAxisDelaunay* New();
+  vtkTypeMacro(vtkMedialAxisDelaunay, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum SmoothingModes
+  {
+    NO_SMOOTHING = 0,
+    WINDOWED_SINC = 1,
+    LAPLACIAN = 2
+  };
+  enum FeatureRegions
+  {
+    ABOVE_ISOVALUE = 0, ///< the side the normals point away from
+    BELOW_ISOVALUE = 1  ///< the side the normals point to
+  };
+
+  /// The flow domain (input port 1, optional): a volume mesh. Voronoi
+  /// vertices outside it are not part of the sheet.
+  void SetDomainConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+  void SetDomainData(vtkDataObject* data) { this->SetInputData(1, data); }
+
+  ///@{
+  /// Smoothing of the input surface before the Delaunay step. Default WINDOWED_SINC.
+  vtkSetClampMacro(Smoothing, int, NO_SMOOTHING, LAPLACIAN);
+  vtkGetMacro(Smoothing, int);
+  vtkSetClampMacro(SmoothingIterations, int, 0, 10000);
+  vtkGetMacro(SmoothingIterations, int);
+  /// Pass band of the windowed sinc filter (0, 2); smaller smooths more. Default 0.1.
+  vtkSetClampMacro(PassBand, double, 1e-6, 2.0);
+  vtkGetMacro(PassBand, double);
+  /// Relaxation factor of Laplacian smoothing. Default 0.1.
+  vtkSetClampMacro(RelaxationFactor, double, 0.0, 1.0);
+  vtkGetMacro(RelaxationFactor, double);
+  ///@}
+
+  ///@{
+  /// Which side of the surface is the feature region. Default ABOVE_ISOVALUE.
+  vtkSetClampMacro(FeatureRegion, int, ABOVE_ISOVALUE, BELOW_ISOVALUE);
+  vtkGetMacro(FeatureRegion, int);
+  ///@}
+
+  ///@{
+  /// Pruning (see ARMedialAxis.h). Defaults 110 degrees, 0.5, 0.05, 0 (no limit).
+  vtkSetClampMacro(MinimumObjectAngle, double, 0.0, 180.0);
+  vtkGetMacro(MinimumObjectAngle, double);
+  vtkSetClampMacro(MinimumRadiusFactor, double, 0.0, 1e6);
+  vtkGetMacro(MinimumRadiusFactor, double);
+  vtkSetClampMacro(MinimumAreaFraction, double, 0.0, 1.0);
+  vtkGetMacro(MinimumAreaFraction, double);
+  vtkSetClampMacro(MaximumNumberOfSheets, int, 0, VTK_INT_MAX);
+  vtkGetMacro(MaximumNumberOfSheets, int);
+  ///@}
+
+  ///@{
+  /// Symmetry planes, 6 values each (origin x y z, normal x y z; the normal
+  /// need not be unit). Default none.
+  void SetNumberOfSymmetryPlaneValues(int n);
+  void SetSymmetryPlaneValue(int i, double value);
+  void AddSymmetryPlane(const double origin[3], const double normal[3]);
+  void RemoveAllSymmetryPlanes();
+  int GetNumberOfSymmetryPlanes() const { return static_cast<int>(this->SymmetryPlanes.size() / 6); }
+  ///@}
+
+  ///@{
+  /// One more symmetry plane from ParaView's plane widget, used when
+  /// UseSymmetryPlaneWidget is on. Defaults off, (0,0,0), (0,0,1).
+  vtkSetMacro(UseSymmetryPlaneWidget, bool);
+  vtkGetMacro(UseSymmetryPlaneWidget, bool);
+  vtkBooleanMacro(UseSymmetryPlaneWidget, bool);
+  vtkSetVector3Macro(SymmetryPlaneOrigin, double);
+  vtkGetVector3Macro(SymmetryPlaneOrigin, double);
+  vtkSetVector3Macro(SymmetryPlaneNormal, double);
+  vtkGetVector3Macro(SymmetryPlaneNormal, double);
+  ///@}
+
+  ///@{
+  /// How far short of a symmetry plane the sheet is cut before it is
+  /// extended back to it; 0 (default) = 2 median surface edge lengths, the
+  /// depth to which closing the region at the plane bends the medial axis.
+  vtkSetClampMacro(SymmetryTrimDistance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(SymmetryTrimDistance, double);
+  ///@}
+
+protected:
+  vtkMedialAxisDelaunay();
+  ~vtkMedialAxisDelaunay() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+private:
+  vtkMedialAxisDelaunay(const vtkMedialAxisDelaunay&) = delete;
+  void operator=(const vtkMedialAxisDelaunay&) = delete;
+
+  int Smoothing = WINDOWED_SINC;
+  int SmoothingIterations = 20;
+  double PassBand = 0.1;
+  double RelaxationFactor = 0.1;
+  int FeatureRegion = ABOVE_ISOVALUE;
+  double MinimumObjectAngle = 110.0;
+  double MinimumRadiusFactor = 0.5;
+  double MinimumAreaFraction = 0.05;
+  int MaximumNumberOfSheets = 0;
+  std::vector<double> SymmetryPlanes;
+  bool UseSymmetryPlaneWidget = false;
+  double SymmetryPlaneOrigin[3] = { 0.0, 0.0, 0.0 };
+  double SymmetryPlaneNormal[3] = { 0.0, 0.0, 1.0 };
+  double SymmetryTrimDistance = 0.0;
+};
+
+#endif

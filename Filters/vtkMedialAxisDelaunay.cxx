@@ -352,7 +352,9 @@ int vtkMedialAxisDelaunay::RequestData(
   }
   this->UpdateProgress(0.1);
 
-  // ---- Oriented point normals of the (smoothed) surface.
+  // ---- Oriented point normals of the (smoothed) surface: the given ones
+  // when the points did not move, else recomputed and oriented like the given ones.
+  const bool smoothed = this->Smoothing != NO_SMOOTHING && this->SmoothingIterations > 0;
   vtkNew<vtkPolyDataNormals> normalsFilter;
   normalsFilter->SetInputData(work);
   normalsFilter->ComputePointNormalsOn();
@@ -381,11 +383,15 @@ int vtkMedialAxisDelaunay::RequestData(
                          "connected piece). Use Contour with Compute Normals on.");
     }
   }
-  normalsFilter->Update();
-  vtkDataArray* computed = normalsFilter->GetOutput()->GetPointData()->GetNormals();
-  if (!computed || normalsFilter->GetOutput()->GetNumberOfPoints() != nPoints)
+  vtkDataArray* computed = givenNormals;
+  if (smoothed || !givenNormals)
   {
-    return fail("Could not compute point normals of the input surface.");
+    normalsFilter->Update();
+    computed = normalsFilter->GetOutput()->GetPointData()->GetNormals();
+    if (!computed || normalsFilter->GetOutput()->GetNumberOfPoints() != nPoints)
+    {
+      return fail("Could not compute point normals of the input surface.");
+    }
   }
   std::vector<double> points(3 * nPoints), normals(3 * nPoints);
   for (vtkIdType i = 0; i < nPoints; ++i)

@@ -19,6 +19,7 @@
 #include <memory>
 #include <numeric>
 #include <sstream>
+#include <thread>
 #include <utility>
 
 namespace ar
@@ -35,6 +36,29 @@ using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
 using Mesh = CGAL::Surface_mesh<Point>;
 
 constexpr double Pi = 3.14159265358979323846;
+
+/// Runs fn(begin, end) over [0, n) in contiguous blocks on the hardware threads.
+void ParallelFor(std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn)
+{
+  const std::size_t threads =
+    std::max<std::size_t>(1, std::min<std::size_t>(std::thread::hardware_concurrency(), n / 10000));
+  if (threads <= 1)
+  {
+    fn(0, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  const std::size_t block = (n + threads - 1) / threads;
+  for (std::size_t t = 1; t < threads; ++t)
+  {
+    pool.emplace_back(fn, std::min(n, t * block), std::min(n, (t + 1) * block));
+  }
+  fn(0, std::min(n, block));
+  for (std::thread& th : pool)
+  {
+    th.join();
+  }
+}
 
 struct UnionFind
 {
@@ -529,7 +553,8 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
   std::vector<char> keep(nCells, 0);
   const double minRadiusFactor = std::max(0.0, options.MinimumRadiusFactor);
   const double side = options.RegionAgainstNormals ? -1.0 : 1.0;
-  for (std::size_t i = 0; i < nCells; ++i)
+  ParallelFor(nCells, [&](std::size_t begin, std::size_t end) {
+  for (std::size_t i = begin; i < end; ++i)
   {
     const auto& c = cells[i];
     const Point cc = CGAL::circumcenter(c->vertex(0)->point(), c->vertex(1)->point(),
@@ -558,6 +583,7 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     radius[i] = r;
     keep[i] = Finite3(x) && side * vote > 0.0 && r >= minRadiusFactor * local;
   }
+  });
   if (inDomain)
   {
     for (std::size_t i = 0; i < nCells; ++i)
@@ -600,71 +626,131 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
   }
 
   // ---- Voronoi facets dual to Delaunay edges with an interior ring of tetrahedra.
+  // A ring is walked from a kept cell and abandoned at its first cell that
+  // fails (infinite, not interior, or too small an angle), so that the walks
+  // cost little outside the region; a ring that passes is marked done in all
+  // its cells (a bit per cell and local edge). CGAL's finite_edges iterator
+  // would walk every ring in full, several times over.
+  static const int EdgeIndex[4][4] = { { -1, 0, 1, 2 }, { 0, -1, 3, 4 }, { 1, 3, -1, 5 },
+    { 2, 4, 5, -1 } };
   const double minAngle = std::clamp(options.MinimumObjectAngle, 0.0, 180.0) * Pi / 180.0;
   const double sinHalf = std::sin(0.5 * minAngle);
   std::vector<std::int64_t> facetOffsets{ 0 }; // polygons of (merged) cell ids
   std::vector<std::int64_t> facetCells;
-  std::vector<std::pair<std::uint64_t, std::int64_t>> voronoiEdges; // (key, facet)
+  std::vector<std::int32_t> facetOf(6 * nCells, -1); // per cell and local edge
+  std::vector<std::uint8_t> walked(nCells, 0);
   std::vector<std::int64_t> ring;
-  std::size_t edgeCount = 0;
-  const std::size_t nEdgesEstimate = dt.number_of_finite_edges();
-  for (auto e = dt.finite_edges_begin(); e != dt.finite_edges_end(); ++e)
+  std::vector<int> ringEdge;
+  for (std::size_t ci = 0; ci < nCells; ++ci)
   {
-    if ((++edgeCount & 0xFFFF) == 0 &&
-      aborted(0.6 + 0.3 * static_cast<double>(edgeCount) / static_cast<double>(nEdgesEstimate)))
+    if ((ci & 0xFFFF) == 0 && aborted(0.6 + 0.3 * static_cast<double>(ci) / static_cast<double>(nCells)))
     {
       error = "aborted.";
       return false;
     }
-    const std::int64_t ip = e->first->vertex(e->second)->info();
-    const std::int64_t iq = e->first->vertex(e->third)->info();
-    const double pq = Distance(allPoints.data() + 3 * ip, allPoints.data() + 3 * iq);
-    ring.clear();
-    bool ok = true;
-    auto circulator = dt.incident_cells(*e);
-    const auto start = circulator;
-    do
-    {
-      const std::int64_t id = circulator->info();
-      // Angle pvq = 2 asin(|pq| / 2r) >= minAngle  <=>  |pq| >= 2 r sin(minAngle/2).
-      if (id < 0 || !keep[id] || pq < 2.0 * radius[id] * sinHalf)
-      {
-        ok = false;
-        break;
-      }
-      ring.push_back(id);
-      ++circulator;
-    } while (circulator != start);
-    if (!ok || ring.size() < 3)
+    if (!keep[ci])
     {
       continue;
     }
-    const auto facet = static_cast<std::int64_t>(facetOffsets.size() - 1);
-    for (std::size_t k = 0; k < ring.size(); ++k)
+    const Delaunay::Cell_handle c = cells[ci];
+    for (int i = 0; i < 3; ++i)
     {
-      const std::int64_t a = ring[k], b = ring[(k + 1) % ring.size()];
-      const auto lo = static_cast<std::uint64_t>(std::min(a, b));
-      const auto hi = static_cast<std::uint64_t>(std::max(a, b));
-      voronoiEdges.emplace_back(lo * static_cast<std::uint64_t>(nCells) + hi, facet);
-      facetCells.push_back(same.Find(ring[k]));
+      for (int j = i + 1; j < 4; ++j)
+      {
+        if (walked[ci] & (1u << EdgeIndex[i][j]))
+        {
+          continue;
+        }
+        const auto va = c->vertex(i), vb = c->vertex(j);
+        const std::int64_t ip = va->info(), iq = vb->info();
+        const double pq = Distance(allPoints.data() + 3 * ip, allPoints.data() + 3 * iq);
+        ring.clear();
+        ringEdge.clear();
+        bool ok = true;
+        Delaunay::Cell_handle cur = c;
+        int a = i, b = j;
+        do
+        {
+          const std::int64_t id = cur->info();
+          // Angle pvq = 2 asin(|pq| / 2r) >= minAngle  <=>  |pq| >= 2 r sin(minAngle/2).
+          if (id < 0 || !keep[id] || pq < 2.0 * radius[id] * sinHalf)
+          {
+            ok = false;
+            break;
+          }
+          ring.push_back(id);
+          ringEdge.push_back(EdgeIndex[a][b]);
+          const Delaunay::Cell_handle next = cur->neighbor(CGAL::Triangulation_utils_3::next_around_edge(a, b));
+          a = next->index(va);
+          b = next->index(vb);
+          cur = next;
+        } while (cur != c);
+        if (!ok || ring.size() < 3)
+        {
+          continue;
+        }
+        const auto facet = static_cast<std::int32_t>(facetOffsets.size() - 1);
+        for (std::size_t k = 0; k < ring.size(); ++k)
+        {
+          walked[ring[k]] |= static_cast<std::uint8_t>(1u << ringEdge[k]);
+          facetOf[6 * ring[k] + ringEdge[k]] = facet;
+          facetCells.push_back(same.Find(ring[k]));
+        }
+        facetOffsets.push_back(static_cast<std::int64_t>(facetCells.size()));
+      }
     }
-    facetOffsets.push_back(static_cast<std::int64_t>(facetCells.size()));
   }
+  walked.clear();
+  walked.shrink_to_fit();
   const std::size_t nFacets = facetOffsets.size() - 1;
   out.NumberOfFacets = nFacets;
 
-  // ---- Sheets: facets joined along Voronoi edges.
-  std::sort(voronoiEdges.begin(), voronoiEdges.end());
+  // ---- Sheets: facets joined along Voronoi edges. A Voronoi edge is dual to
+  // a Delaunay triangle (the face between two cells); the facets dual to the
+  // triangle's three edges that were kept share it.
   UnionFind sheets(nFacets);
-  for (std::size_t k = 1; k < voronoiEdges.size(); ++k)
+  for (std::size_t ci = 0; ci < nCells; ++ci)
   {
-    if (voronoiEdges[k].first == voronoiEdges[k - 1].first)
+    const std::int32_t* f6 = facetOf.data() + 6 * ci;
+    if (std::max({ f6[0], f6[1], f6[2], f6[3], f6[4], f6[5] }) < 0)
     {
-      sheets.Union(voronoiEdges[k].second, voronoiEdges[k - 1].second);
+      continue; // no kept facet around this cell's edges
+    }
+    for (int k = 0; k < 4; ++k)
+    {
+      const std::int64_t n = cells[ci]->neighbor(k)->info();
+      if (n >= 0 && n < static_cast<std::int64_t>(ci))
+      {
+        continue; // the face was seen from the other cell
+      }
+      std::int32_t first = -1;
+      for (int i = 0; i < 3; ++i)
+      {
+        for (int j = i + 1; j < 4; ++j)
+        {
+          if (i == k || j == k)
+          {
+            continue;
+          }
+          const std::int32_t f = facetOf[6 * ci + EdgeIndex[i][j]];
+          if (f < 0)
+          {
+            continue;
+          }
+          if (first < 0)
+          {
+            first = f;
+          }
+          else
+          {
+            sheets.Union(first, f);
+          }
+        }
+      }
     }
   }
-  voronoiEdges.clear();
-  voronoiEdges.shrink_to_fit();
+  facetOf.clear();
+  facetOf.shrink_to_fit();
 
   // Triangulate each facet as a fan (it is planar and convex: a Voronoi face),
   // skipping the repeated vertices of merged circumcentres.

@@ -43,7 +43,8 @@ extend = ExtendToPlane(Input=trim, PlaneOrigin=[0.0, 0.0, -0.005], PlaneNormal=[
 last = {"fit": fit, "remove": remove, "trim": trim, "extend": extend}[stage]
 
 view = GetActiveViewOrCreate('RenderView')
-view.ViewSize = [800, 600]
+size = [int(v) for v in os.environ.get("AR_GUI_SIZE", "800x600").split("x")]
+view.ViewSize = size
 view.OrientationAxesVisibility = 1
 mesh = Show(reader, view)
 mesh.Representation = 'Wireframe'
@@ -70,7 +71,7 @@ view.CameraFocalPoint = [0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bound
 view.CameraViewUp = [0.0, 1.0, 0.0]
 view.ResetCamera()
 Render(view)
-SaveScreenshot(out_png, view, ImageResolution=[800, 600])
+SaveScreenshot(out_png, view, ImageResolution=size)
 ext = servermanager.Fetch(extend)
 with open(out_png + ".txt", "w") as f:
     f.write("selected %d removed %d trim %d extend %d extended_edges %d\n" % (

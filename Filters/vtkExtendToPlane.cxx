@@ -295,7 +295,20 @@ int vtkExtendToPlane::RequestData(
     points->GetPoint(e.lo, a);
     points->GetPoint(e.hi, b);
     const double length = std::sqrt(vtkMath::Distance2BetweenPoints(a, b));
-    if (s[e.lo] <= gap && s[e.hi] <= gap && (s[e.lo] > onPlane || s[e.hi] > onPlane) &&
+    // Only where the surface ends towards the plane: the polygon that owns the
+    // edge lies farther from the plane than the edge (an edge at the far end
+    // of a narrow sheet, within the gap as well, faces away from the plane).
+    vtkIdType npts;
+    const vtkIdType* ids;
+    surface->GetPolys()->GetCellAtId(e.cell, npts, ids);
+    double sPoly = 0.0;
+    for (vtkIdType k = 0; k < npts; ++k)
+    {
+      sPoly += s[ids[k]];
+    }
+    sPoly /= static_cast<double>(npts);
+    const bool facesPlane = sPoly > 0.5 * (s[e.lo] + s[e.hi]) + onPlane;
+    if (facesPlane && s[e.lo] <= gap && s[e.hi] <= gap && (s[e.lo] > onPlane || s[e.hi] > onPlane) &&
       std::abs(s[e.lo] - s[e.hi]) <= 0.5 * length)
     {
       extended.push_back(e);

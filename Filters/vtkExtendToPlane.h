@@ -25,7 +25,9 @@
  * of three or more polygons of a non-manifold sheet are not open) whose two
  * end points lie within MaximumGap of the plane, and which makes an angle of
  * at most 30 degrees with the plane (|s(a) - s(b)| <= |ab| / 2: side edges
- * that leave the plane steeply are not extended), gets a strip from the edge
+ * that leave the plane steeply are not extended), and whose polygon lies
+ * farther from the plane than the edge (the surface ends towards the plane:
+ * the far edge of a sheet narrower than the gap is left alone), gets a strip from the edge
  * to its orthogonal projection onto the plane (s = 0): each end point x
  * gets a column x - t s(x) n, t in [0, 1], divided into ceil(s(x) / h)
  * rows, h the mean edge length of the trimmed surface; columns are shared

@@ -6,12 +6,15 @@
 
 #include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
+#include "vtkCallbackCommand.h"
 #include "vtkCell.h"
 #include "vtkCellData.h"
 #include "vtkClipPolyData.h"
+#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
+#include "vtkExtendToPlane.h"
 #include "vtkFeatureEdges.h"
 #include "vtkFieldData.h"
 #include "vtkGeometryFilter.h"
@@ -512,19 +515,37 @@ int vtkMedialAxisDelaunay::RequestData(
   result->GetPointData()->AddArray(radius);
   result->GetCellData()->AddArray(sheetId);
 
-  // ---- Symmetry planes: keep the original side of each plane (the sheet of
-  // the mirrored union crosses the plane orthogonally, so the cut edge meets
-  // it orthogonally too); then close the gaps the pruning left short of the plane.
+  // ---- Symmetry planes: the sheet of the mirrored union crosses each plane
+  // orthogonally; keep the original side (cut SymmetryTrimDistance short of
+  // the plane) and extend the open edges near the plane orthogonally onto
+  // it, which also closes gaps that the pruning left next to the plane.
   std::vector<double> sheetAreas = sheet.SheetAreas;
-  if (!options.SymmetryPlanes.empty())
+  vtkNew<vtkIntArray> extended;
+  extended->SetName("Extended");
+  extended->SetNumberOfTuples(nTri);
+  extended->FillValue(0);
+  result->GetCellData()->AddArray(extended);
+  if (!options.SymmetryPlanes.empty() && nTri > 0)
   {
+    std::vector<double> lengths;
+    lengths.reserve(triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); t += 3)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        lengths.push_back(std::sqrt(vtkMath::Distance2BetweenPoints(
+          &points[3 * triangles[t + k]], &points[3 * triangles[t + (k + 1) % 3]])));
+      }
+    }
+    std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+    const double medianEdge = lengths[lengths.size() / 2];
     vtkSmartPointer<vtkPolyData> current = result.Get();
     const std::size_t nPlanes = options.SymmetryPlanes.size() / 6;
     for (std::size_t k = 0; k < nPlanes; ++k)
     {
       const double* v = options.SymmetryPlanes.data() + 6 * k;
       double normal[3] = { v[3], v[4], v[5] };
-      double side = 0.0;
+      double side = 0.0; // the normal points to the side that holds the surface
       for (vtkIdType i = 0; i < nPoints; ++i)
       {
         const double* x = &points[3 * i];
@@ -543,9 +564,32 @@ int vtkMedialAxisDelaunay::RequestData(
       vtkNew<vtkClipPolyData> clip;
       clip->SetInputData(current);
       clip->SetClipFunction(plane);
+      clip->SetValue(this->SymmetryTrimDistance * vtkMath::Norm(normal));
       clip->Update();
       current = vtkSmartPointer<vtkPolyData>::New();
       current->ShallowCopy(clip->GetOutput());
+      if (current->GetNumberOfCells() == 0)
+      {
+        break;
+      }
+      // Open edges within the trim distance plus two surface edge lengths of
+      // the plane go down to it.
+      vtkNew<vtkExtendToPlane> extend;
+      // "Nothing to extend" is normal here (the sheet reaches the plane).
+      vtkNew<vtkCallbackCommand> quiet;
+      extend->AddObserver(vtkCommand::WarningEvent, quiet);
+      extend->SetInputData(current);
+      extend->SetPlaneOrigin(v[0], v[1], v[2]);
+      extend->SetPlaneNormal(normal);
+      extend->SetTrimDistance(0.0);
+      extend->SetMaximumGap(this->SymmetryTrimDistance + 2.0 * medianEdge);
+      extend->Update();
+      if (extend->GetOutput()->GetNumberOfCells() > 0)
+      {
+        current = vtkSmartPointer<vtkPolyData>::New();
+        current->ShallowCopy(extend->GetOutput());
+        current->GetFieldData()->Initialize();
+      }
     }
     // Sheet areas of what is left.
     vtkDataArray* ids = current->GetCellData()->GetArray("SheetId");

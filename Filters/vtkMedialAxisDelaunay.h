@@ -18,10 +18,14 @@
  *    tetrahedra is interior, pruned by the object angle (Dey and Zhao 2004),
  *    by the pole radius relative to the local surface edge length, and by
  *    sheet area. See ARMedialAxis.h for the details.
- * 4. Optional symmetry planes: the sheet is trimmed a little short of each
- *    plane and its open edges there are extended to meet the plane
- *    orthogonally (vtkExtendToPlane), so that one sheet spans between
- *    symmetry planes (the repair the paper made by hand, its Figure 2c).
+ * 4. Optional symmetry planes: the surface is mirrored across them before
+ *    the Delaunay step, so that the region is not closed at the plane and its
+ *    sheet crosses the plane orthogonally; the sheet is then cut at the plane
+ *    (SymmetryTrimDistance short of it) and its open edges near the plane are
+ *    extended orthogonally onto it (vtkExtendToPlane), so that one sheet
+ *    spans between symmetry planes (the repair the paper made by hand, its
+ *    Figure 2c). Two parallel planes (a one-cell-thick 2-D mesh) are handled:
+ *    the mirrored copies stack up.
  *
  * Orientation: ParaView's Contour gives point normals that point out of the
  * region above the iso-value (towards lower values). FeatureRegion
@@ -126,9 +130,13 @@ public:
   ///@}
 
   ///@{
-  /// How far short of a symmetry plane the sheet is cut before it is
-  /// extended back to it; 0 (default) = 2 median surface edge lengths, the
-  /// depth to which closing the region at the plane bends the medial axis.
+  /// How far short of a symmetry plane the sheet is cut before its open edges
+  /// near the plane are extended orthogonally onto it (vtkExtendToPlane, for
+  /// edges within SymmetryTrimDistance + 2 median surface edge lengths).
+  /// Default 0: the sheet of the mirrored surface already meets the plane at
+  /// a right angle, and the extension only closes gaps that the pruning left
+  /// next to the plane; a positive distance replaces a ragged end of the sheet
+  /// by an exactly orthogonal strip.
   vtkSetClampMacro(SymmetryTrimDistance, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(SymmetryTrimDistance, double);
   ///@}

@@ -101,6 +101,26 @@ xmax = mesh.VTKObject.GetBounds()[1]
 check(P[:, 0].min() < 0.07 and P[:, 0].max() > xmax - 2 * cell,
       "wedge: the sheet spans the shock from x = %.3f (apex at 0) to x = %.3f (outlet at %.3f)" % (P[:, 0].min(), P[:, 0].max(), xmax))
 check(len(sheet.FieldData["SheetAreas"]) == 1, "wedge: one sheet")
+def triangle_normals(surface):
+    P = np.asarray(surface.Points)
+    t = np.asarray(surface.VTKObject.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    n = np.cross(P[t[:, 1]] - P[t[:, 0]], P[t[:, 2]] - P[t[:, 0]])
+    area = 0.5 * np.linalg.norm(n, axis=1)
+    return n / np.maximum(2 * area, 1e-300)[:, None], area
+
+
+n, area = triangle_normals(sheet)
+tilt = np.degrees(np.arcsin(np.clip(abs(n[:, 2]), 0, 1)))
+check(np.average(tilt, weights=area) < 5.0,
+      "wedge: the sheet stands orthogonal to the symmetry planes (area-weighted mean tilt %.2f deg)" % np.average(tilt, weights=area))
+# A trim distance: the sheet is cut 0.002 short of each plane and extended
+# back onto it by strips that are exactly orthogonal to it.
+trimmed = artest.fetch(MedialAxisDelaunay(Input=contour, Domain=reader, SymmetryPlanes=planes, SymmetryTrimDistance=0.002))
+strips = np.asarray(trimmed.CellData["Extended"]) == 1
+n, area = triangle_normals(trimmed)
+Pz = np.asarray(trimmed.Points)[:, 2]
+check(strips.sum() > 20 and abs(n[strips, 2]).max() < 1e-6 and Pz.min() <= zlo + 1e-9 and Pz.max() >= zhi - 1e-9,
+      "wedge, trim 0.002: %d strip triangles, exactly orthogonal to the planes (max |n_z| %.1e), reaching both" % (strips.sum(), abs(n[strips, 2]).max()))
 bare = artest.fetch(MedialAxisDelaunay(Input=contour, Domain=reader))
 check(bare.GetNumberOfCells() == 0, "wedge without symmetry planes: no interior facet (%d triangles)" % bare.GetNumberOfCells())
 

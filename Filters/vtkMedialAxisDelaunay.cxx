@@ -13,6 +13,7 @@
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkExtendToPlane.h"
 #include "vtkFeatureEdges.h"
@@ -78,15 +79,29 @@ vtkSmartPointer<vtkPolyData> LocalSurface(vtkDataSet* input)
     surface->ShallowCopy(pd);
     return surface;
   }
-  vtkNew<vtkGeometryFilter> geometry; // drops ghost cells
-  geometry->SetInputData(pd);
-  geometry->Update();
-  surface->ShallowCopy(geometry->GetOutput());
+  // The triangles of ghost cells belong to another rank (vtkGeometryFilter
+  // keeps them for polydata input).
+  vtkNew<vtkCellArray> owned;
+  vtkIdType npts;
+  const vtkIdType* ids;
+  vtkCellArray* polys = pd->GetPolys();
+  const vtkIdType offset = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
+  vtkIdType cell = offset;
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids); ++cell)
+  {
+    if (!(ghosts->GetValue(cell) & vtkDataSetAttributes::DUPLICATECELL))
+    {
+      owned->InsertNextCell(npts, ids);
+    }
+  }
+  surface->SetPoints(pd->GetPoints());
+  surface->GetPointData()->ShallowCopy(pd->GetPointData());
+  surface->SetPolys(owned);
   return surface;
 }
 
 /// Rank 0 gets the union of the ranks' surfaces with the points of piece
-/// interfaces merged and triangles made twice (from both sides) kept once.
+/// interfaces merged and any triangle made twice kept once.
 vtkSmartPointer<vtkPolyData> GatherSurface(vtkPolyData* local)
 {
   vtkMultiProcessController* ctrl = Controller();
@@ -114,9 +129,13 @@ vtkSmartPointer<vtkPolyData> GatherSurface(vtkPolyData* local)
   {
     return result;
   }
+  // Both ranks interpolate the contour points on the edges of their shared
+  // faces, which can differ in the last bits: merge within 1e-9 of the
+  // bounding box diagonal.
   vtkNew<vtkStaticCleanPolyData> merge;
   merge->SetInputConnection(append->GetOutputPort());
-  merge->SetTolerance(0.0);
+  merge->ToleranceIsAbsoluteOff();
+  merge->SetTolerance(1e-9);
   merge->Update();
   vtkPolyData* merged = merge->GetOutput();
   std::set<std::array<vtkIdType, 3>> seen;

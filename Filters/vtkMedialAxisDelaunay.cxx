@@ -18,6 +18,7 @@
 #include "vtkExtendToPlane.h"
 #include "vtkFeatureEdges.h"
 #include "vtkFieldData.h"
+#include "vtkFillHolesFilter.h"
 #include "vtkGeometryFilter.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -544,7 +545,7 @@ int vtkMedialAxisDelaunay::RequestData(
   extended->SetNumberOfTuples(nTri);
   extended->FillValue(0);
   result->GetCellData()->AddArray(extended);
-  if (!options.SymmetryPlanes.empty() && nTri > 0)
+  double medianEdge = 0.0;
   {
     std::vector<double> lengths;
     lengths.reserve(triangles.size());
@@ -557,7 +558,63 @@ int vtkMedialAxisDelaunay::RequestData(
       }
     }
     std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
-    const double medianEdge = lengths[lengths.size() / 2];
+    medianEdge = lengths[lengths.size() / 2];
+  }
+  if (this->FillHoles && this->MaximumHoleSize > 0.0 && nTri > 0)
+  {
+    vtkNew<vtkFillHolesFilter> fill;
+    fill->SetInputData(result);
+    fill->SetHoleSize(this->MaximumHoleSize * medianEdge);
+    fill->Update();
+    vtkPolyData* filled = fill->GetOutput();
+    const vtkIdType nNew = filled->GetNumberOfCells();
+    if (nNew > nTri)
+    {
+      // The patches take the SheetId of a triangle at their first point.
+      vtkNew<vtkPolyData> links;
+      links->ShallowCopy(filled);
+      links->BuildLinks();
+      vtkNew<vtkIntArray> ids;
+      ids->SetName("SheetId");
+      ids->SetNumberOfTuples(nNew);
+      vtkNew<vtkIntArray> ext;
+      ext->SetName("Extended");
+      ext->SetNumberOfTuples(nNew);
+      ext->FillValue(0);
+      for (vtkIdType t = 0; t < nNew; ++t)
+      {
+        int id = 0;
+        if (t < nTri)
+        {
+          id = sheetId->GetValue(t);
+        }
+        else
+        {
+          vtkIdType npts;
+          const vtkIdType* pts;
+          links->GetCellPoints(t, npts, pts);
+          vtkIdType ncells;
+          vtkIdType* cellIds;
+          links->GetPointCells(pts[0], ncells, cellIds);
+          for (vtkIdType k = 0; k < ncells; ++k)
+          {
+            if (cellIds[k] < nTri)
+            {
+              id = sheetId->GetValue(cellIds[k]);
+              break;
+            }
+          }
+        }
+        ids->SetValue(t, id);
+      }
+      result->SetPolys(filled->GetPolys());
+      result->GetCellData()->Initialize();
+      result->GetCellData()->AddArray(ids);
+      result->GetCellData()->AddArray(ext);
+    }
+  }
+  if (!options.SymmetryPlanes.empty() && nTri > 0)
+  {
     vtkSmartPointer<vtkPolyData> current = result.Get();
     const std::size_t nPlanes = options.SymmetryPlanes.size() / 6;
     for (std::size_t k = 0; k < nPlanes; ++k)
@@ -674,4 +731,6 @@ void vtkMedialAxisDelaunay::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SymmetryPlanes: " << this->GetNumberOfSymmetryPlanes() << "\n";
   os << indent << "UseSymmetryPlaneWidget: " << this->UseSymmetryPlaneWidget << "\n";
   os << indent << "SymmetryTrimDistance: " << this->SymmetryTrimDistance << "\n";
+  os << indent << "FillHoles: " << this->FillHoles << "\n";
+  os << indent << "MaximumHoleSize: " << this->MaximumHoleSize << "\n";
 }

@@ -34,6 +34,8 @@
  * are computed and oriented outwards (right for a closed surface; an open
  * surface without normals gets a warning).
  *
+ * 5. Optional filling of the small holes pruned facets leave (vtkFillHolesFilter).
+ *
  * Output: vtkPolyData of triangles with point array `Radius` (the inscribed
  * ball radius), cell arrays `SheetId` (0 = largest) and `Extended` (1 on the
  * strips added at symmetry planes); field data `SheetAreas`,
@@ -141,6 +143,18 @@ public:
   vtkGetMacro(SymmetryTrimDistance, double);
   ///@}
 
+  ///@{
+  /// Fill the small holes that pruned facets leave in a sheet
+  /// (vtkFillHolesFilter): holes whose boundary loop fits in a sphere of
+  /// radius MaximumHoleSize times the median surface edge length. Holes
+  /// bounded by a non-manifold edge stay. Defaults on, 2.
+  vtkSetMacro(FillHoles, bool);
+  vtkGetMacro(FillHoles, bool);
+  vtkBooleanMacro(FillHoles, bool);
+  vtkSetClampMacro(MaximumHoleSize, double, 0.0, 1e6);
+  vtkGetMacro(MaximumHoleSize, double);
+  ///@}
+
 protected:
   vtkMedialAxisDelaunay();
   ~vtkMedialAxisDelaunay() override = default;
@@ -166,6 +180,8 @@ private:
   double SymmetryPlaneOrigin[3] = { 0.0, 0.0, 0.0 };
   double SymmetryPlaneNormal[3] = { 0.0, 0.0, 1.0 };
   double SymmetryTrimDistance = 0.0;
+  bool FillHoles = true;
+  double MaximumHoleSize = 2.0;
 };
 
 #endif

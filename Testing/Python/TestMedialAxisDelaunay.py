@@ -8,6 +8,9 @@ user makes them (Contour with normals):
   the plane QuadricFit fits, spans the shock from near the apex to the
   outlet, and is empty without the symmetry planes (every contour point is
   then on the convex hull);
+- OpenFOAM cone20Ma2p5 (3-D, half model): the sheet of the W isosurface is
+  one sheet within 2 cells of the cone QuadricFit fits to the shock sensor,
+  covering it, and stands orthogonally on the symmetry plane z = 0;
 - bad input: empty surface, quadrilaterals, coincident points, a flat point
   set, NaN coordinates: an error naming the problem and an empty output.
 """
@@ -123,6 +126,43 @@ check(strips.sum() > 20 and abs(n[strips, 2]).max() < 1e-6 and Pz.min() <= zlo +
       "wedge, trim 0.002: %d strip triangles, exactly orthogonal to the planes (max |n_z| %.1e), reaching both" % (strips.sum(), abs(n[strips, 2]).max()))
 bare = artest.fetch(MedialAxisDelaunay(Input=contour, Domain=reader))
 check(bare.GetNumberOfCells() == 0, "wedge without symmetry planes: no interior facet (%d triangles)" % bare.GetNumberOfCells())
+
+# ---- The OpenFOAM cone (Mach 2.5, 20 deg; Gmsh tetrahedra, half model with
+# the symmetry plane z = 0): the sheet of the W isosurface against the cone
+# that QuadricFit fits to the shock sensor's clusters (itself within 0.2 deg
+# of Taylor-Maccoll, PyFeatureSurfacesReal).
+cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
+csrc = artest.fetch(cone)
+sensor = ShockSensor(Input=cone, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"],
+                     Gamma=artest.field(csrc, "Gamma")[0])
+cweight = WeightFunction(Input=sensor, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
+cclusters = FeatureCluster(Input=cweight, SensorArray=["POINTS", "NormalMach"], SensorRange=[0.8, 1.2])
+cfit = artest.fetch(QuadricFit(Input=OutputPort(cclusters, 1), Domain=cone, Template="Cone", ClusterId=0))
+apex, axis = artest.field(cfit, "Apex"), artest.field(cfit, "AxisDirection")
+half = np.radians(artest.field(cfit, "HalfAngle")[0])
+volumes = np.asarray(artest.fetch(CellSize(Input=cone, ComputeVolume=1)).CellData["Volume"])
+cell = np.median(np.cbrt(6 * np.sqrt(2) * volumes))  # edge of the regular tetrahedron of that volume
+ccontour = Contour(Input=cweight, ContourBy=["POINTS", "WeightFunction"], Isosurfaces=[1.5], ComputeNormals=1)
+csheet = artest.fetch(MedialAxisDelaunay(Input=ccontour, Domain=cone, SymmetryPlanes=[0, 0, 0, 0, 0, 1]))
+P = np.asarray(csheet.Points)
+v = P - apex
+along = v @ axis
+dist = np.linalg.norm(v - np.outer(along, axis), axis=1) * np.cos(half) - along * np.sin(half)
+check(len(P) > 1000 and abs(dist).max() <= 2.0 * cell,
+      "cone: %d sheet points, all within 2 cells of the fitted cone (max %.2f, mean %.2f cells; cell %.4f)"
+      % (len(P), abs(dist).max() / cell, abs(dist).mean() / cell, cell))
+check(len(csheet.FieldData["SheetAreas"]) == 1, "cone: one sheet")
+_, fit_area = triangle_normals(cfit)
+check(artest.field(csheet, "SheetAreas")[0] > 0.8 * fit_area.sum(),
+      "cone: the sheet's area %.3f covers the fitted cone's %.3f in the domain" % (artest.field(csheet, "SheetAreas")[0], fit_area.sum()))
+n, area = triangle_normals(csheet)
+P3 = np.asarray(csheet.Points)
+t = np.asarray(csheet.VTKObject.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+near = P3[t][:, :, 2].min(axis=1) < 1e-9
+tilt = np.degrees(np.arcsin(np.clip(abs(n[near, 2]), 0, 1)))
+check(near.sum() > 10 and np.average(tilt, weights=area[near]) < 10.0,
+      "cone: %d triangles reach the symmetry plane, standing on it at %.1f deg from orthogonal (area-weighted mean)"
+      % (near.sum(), np.average(tilt, weights=area[near])))
 
 # ---- Bad input.
 def refused(proxy, fragment, label):

@@ -1,7 +1,10 @@
-"""Run inside the real ParaView GUI (paraview --test-script=... --exit) by
+"""Run inside the real ParaView GUI (paraview --script=... --exit) by
 RunGUISurfaceEditing.py: the wedge's shock surface, hand-edited (selected
 cells removed, trimmed with a plane, extended to the back plane z = -0.005),
-shown over the mesh; a screenshot is saved to AR_GUI_SCREENSHOT."""
+shown over the mesh; a screenshot is saved to AR_GUI_SCREENSHOT. The surface
+is QuadricFit's plane, or with AR_GUI_SOURCE=medial the medial sheet of the
+WeightFunction isosurface (MedialAxisDelaunay with the front and back planes
+as symmetry planes)."""
 import os
 
 import numpy as np
@@ -15,7 +18,12 @@ stage = os.environ.get("AR_GUI_STAGE", "extend")
 reader = XMLUnstructuredGridReader(FileName=[os.path.join(os.environ["AR_DATA_DIR"], "wedge15Ma5.vtu")])
 weight = WeightFunction(Input=reader, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
 clusters = FeatureCluster(Input=weight, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
-fit = QuadricFit(Input=OutputPort(clusters, 1), Domain=reader, Template="Plane", ClusterId=0)
+if os.environ.get("AR_GUI_SOURCE", "fit") == "medial":
+    contour = Contour(Input=weight, ContourBy=["POINTS", "WeightFunction"], Isosurfaces=[1.5], ComputeNormals=1)
+    fit = MedialAxisDelaunay(Input=contour, Domain=reader,
+                             SymmetryPlanes=[0, 0, -0.005, 0, 0, 1, 0, 0, 0.005, 0, 0, 1])
+else:
+    fit = QuadricFit(Input=OutputPort(clusters, 1), Domain=reader, Template="Plane", ClusterId=0)
 fit.UpdatePipeline()
 surface = servermanager.Fetch(fit)
 bounds = surface.GetBounds()
@@ -52,7 +60,8 @@ mesh.Opacity = 0.25
 mesh.ColorArrayName = ['POINTS', '']
 mesh.AmbientColor = mesh.DiffuseColor = [0.5, 0.5, 0.5]
 shown = Show(last, view)
-shown.Representation = 'Surface With Edges'
+# The medial sheet's Voronoi triangles are small: edges drawn would hide the colours.
+shown.Representation = 'Surface' if os.environ.get("AR_GUI_SOURCE") == "medial" else 'Surface With Edges'
 if stage == "extend":
     ColorBy(shown, ('CELLS', 'Extended'))
     lut = GetColorTransferFunction('Extended')

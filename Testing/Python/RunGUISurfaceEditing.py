@@ -4,7 +4,12 @@ QuadricFit -> RemoveSelectedCells -> TrimSurface -> ExtendToPlane, shown over
 the mesh) and saves a screenshot; then this script checks that the GUI ran the
 pipeline (cells removed = cells selected, strips made) and that the picture
 is not blank: many colours, a plausible fraction of non-background pixels,
-and the red strips (Extended = 1) visible. The GUI is killed after 50 s."""
+and the red strips (Extended = 1) visible. The GUI is killed after 50 s.
+
+    pvpython RunGUISurfaceEditing.py [fit|medial]
+
+fit (default): the surface is QuadricFit's plane; medial: the medial sheet of
+the WeightFunction isosurface from MedialAxisDelaunay."""
 import os
 import signal
 import subprocess
@@ -16,12 +21,14 @@ import artest
 from artest import check
 
 here = os.path.dirname(os.path.abspath(__file__))
-png = os.path.join(artest.OUTPUT_DIR, "GUISurfaceEditing.png")
+source = sys.argv[1] if len(sys.argv) > 1 else "fit"
+png = os.path.join(artest.OUTPUT_DIR, "GUISurfaceEditing_%s.png" % source)
 for f in (png, png + ".txt"):
     if os.path.exists(f):
         os.remove(f)
 env = artest.child_environment()
 env["AR_GUI_SCREENSHOT"] = png
+env["AR_GUI_SOURCE"] = source
 cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "paraview", "--dr",
        "--script=" + os.path.join(here, "GUISurfaceEditingScript.py"), "--exit"]
 artest.say("$ " + " ".join(cmd))

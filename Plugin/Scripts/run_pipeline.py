@@ -159,6 +159,20 @@ save(surface, "wedge15Ma5_shock_surface.vtp")
 summary.append(("wedge15Ma5 QuadricFit plane (robust)", int(plane.GetNumberOfCells()),
                 "shock plane %.2f deg (theta-beta-Mach %.2f deg)" % (plane_angle, exact)))
 
+# The discrete surface-based path: the medial sheet of the W = 1.5 isosurface,
+# with the wedge's front and back planes as symmetry planes (one cell deep).
+zlo, zhi = src.VTKObject.GetBounds()[4:6]
+w_iso = Contour(Input=weight, ContourBy=["POINTS", "WeightFunction"], Isosurfaces=[1.5], ComputeNormals=1)
+w_sheet = MedialAxisDelaunay(Input=w_iso, Domain=wedge, SymmetryPlanes=[0, 0, zlo, 0, 0, 1, 0, 0, zhi, 0, 0, 1])
+sheet = local(w_sheet)
+save(w_sheet, "wedge15Ma5_medial_sheet.vtp")
+wedge_cell = np.median(np.sqrt(np.asarray(local(CellSize(Input=wedge, ComputeVolume=1)).CellData["Volume"]) / (zhi - zlo)))
+d_sheet = np.abs((np.asarray(sheet.Points) - np.asarray(plane.FieldData["Origin"])) @ normal) / wedge_cell
+summary.append(("wedge15Ma5 MedialAxisDelaunay sheet of W = 1.5 (symmetry planes z = %.3f, %.3f)" % (zlo, zhi),
+                int(sheet.GetNumberOfCells()),
+                "%d sheet(s); distance to the QuadricFit plane max %.2f, mean %.2f cells"
+                % (len(np.asarray(sheet.FieldData["SheetAreas"])), d_sheet.max(), d_sheet.mean())))
+
 shocks = Threshold(Input=weight, Scalars=["CELLS", "ShockCells"], LowerThreshold=0.5, UpperThreshold=1.5)
 top_view = lambda view: (view.ResetCamera(), setattr(view, "CameraPosition", [0.08, 0.076, 1.0]),
                          setattr(view, "CameraFocalPoint", [0.08, 0.076, 0.0]), setattr(view, "CameraViewUp", [0, 1, 0]),
@@ -294,6 +308,20 @@ if os.path.exists(cone_path):
                     int(fitted_cone.GetNumberOfCells()),
                     "shock half-angle %.2f deg (Taylor-Maccoll %.2f deg), apex %.4f from the tip"
                     % (got, reference, np.linalg.norm(apex - tip))))
+    # The medial sheet of the W = 1.5 isosurface, with the symmetry plane z = 0.
+    w_c = WeightFunction(Input=weight_c, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
+    c_iso = Contour(Input=w_c, ContourBy=["POINTS", "WeightFunction"], Isosurfaces=[1.5], ComputeNormals=1)
+    c_sheet = MedialAxisDelaunay(Input=c_iso, Domain=cone, SymmetryPlanes=[0, 0, 0, 0, 0, 1])
+    cs = local(c_sheet)
+    save(c_sheet, "cone20Ma2p5_medial_sheet.vtp")
+    axis_c = np.asarray(fitted_cone.FieldData["AxisDirection"])
+    v = np.asarray(cs.Points) - apex
+    along = v @ axis_c
+    d_cone = np.abs(np.linalg.norm(v - np.outer(along, axis_c), axis=1) * np.cos(np.radians(got)) - along * np.sin(np.radians(got)))
+    cone_cell = np.median(np.cbrt(6 * np.sqrt(2) * np.asarray(local(CellSize(Input=cone, ComputeVolume=1)).CellData["Volume"])))
+    summary.append(("cone20Ma2p5 MedialAxisDelaunay sheet of W = 1.5 (symmetry plane z = 0)", int(cs.GetNumberOfCells()),
+                    "%d sheet(s); distance to the fitted cone max %.2f, mean %.2f cells"
+                    % (len(np.asarray(cs.FieldData["SheetAreas"])), d_cone.max() / cone_cell, d_cone.mean() / cone_cell)))
     symmetry = Slice(Input=weight_c)
     symmetry.SliceType.Origin = [0.5, 0.0, 0.001]
     symmetry.SliceType.Normal = [0, 0, 1]
@@ -314,6 +342,13 @@ if os.path.exists(cone_path):
             cone_view,
             "Mach 2.5, 20 deg cone (OpenFOAM): fitted conical shock %.2f deg (Taylor-Maccoll %.2f deg) over p on the symmetry plane"
             % (got, reference))
+
+    picture("cone20Ma2p5_medial_sheet.png",
+            [(symmetry, colored("p", "POINTS", 0.8, 2.4, "Viridis (matplotlib)", "p")),
+             (c_sheet, colored("Radius", "POINTS", 0.0, 0.06, "Inferno (matplotlib)", "Radius"))],
+            cone_view,
+            "Medial sheet of the W = 1.5 isosurface (MedialAxisDelaunay, coloured by inscribed radius), "
+            "%.2f cells on average from the fitted cone" % (d_cone.mean() / cone_cell))
 
 print()
 print("| dataset | shock cells / medial points | check |")

@@ -124,6 +124,11 @@ n, area = triangle_normals(trimmed)
 Pz = np.asarray(trimmed.Points)[:, 2]
 check(strips.sum() > 20 and abs(n[strips, 2]).max() < 1e-6 and Pz.min() <= zlo + 1e-9 and Pz.max() >= zhi - 1e-9,
       "wedge, trim 0.002: %d strip triangles, exactly orthogonal to the planes (max |n_z| %.1e), reaching both" % (strips.sum(), abs(n[strips, 2]).max()))
+t = np.asarray(trimmed.VTKObject.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+zs = Pz[t[strips]]
+in_band = np.all(zs <= zlo + 0.002 + 1e-9, axis=1) | np.all(zs >= zhi - 0.002 - 1e-9, axis=1)
+check(in_band.all(), "wedge, trim 0.002: every strip lies within 0.002 of its own plane (none folds across the sheet "
+      "to the other plane, %d outside)" % (~in_band).sum())
 bare = artest.fetch(MedialAxisDelaunay(Input=contour, Domain=reader))
 check(bare.GetNumberOfCells() == 0, "wedge without symmetry planes: no interior facet (%d triangles)" % bare.GetNumberOfCells())
 

@@ -42,6 +42,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -165,6 +166,120 @@ vtkSmartPointer<vtkPolyData> GatherSurface(vtkPolyData* local)
 const char* CellKind(int npts)
 {
   return npts == 4 ? "quadrilateral" : "polygon";
+}
+
+/**
+ * Symmetry planes picked from the domain's planar boundary patches: a patch
+ * (boundary triangles sharing one plane, at least 0.5 % of the boundary's
+ * area) is taken when at least 10 % of the feature surface's open-edge points
+ * lie on it and the surface meets it at a right angle there (mean |n . N|
+ * below sin 15 degrees over those points, n the surface normals): fields have
+ * no normal gradient at a symmetry plane, so their isosurfaces stand on it
+ * orthogonally, while a shock that leaves through an outlet or meets a wall
+ * crosses it at an angle. (A zero-gradient outlet bends the isosurface to a
+ * right angle in the last cell too: the 10 % keeps the few points where a
+ * shock crosses it out.)
+ */
+std::vector<double> SymmetryPlanesFromBoundary(vtkPolyData* boundary, const std::vector<double>& points,
+  const std::vector<double>& normals, const std::vector<std::int64_t>& triangles, double diagonal)
+{
+  struct Patch
+  {
+    double Area = 0.0;
+    double Normal[3] = { 0.0, 0.0, 0.0 };
+    double Offset = 0.0;
+  };
+  std::map<std::array<long long, 4>, Patch> patches;
+  double total = 0.0;
+  vtkIdType npts;
+  const vtkIdType* ids;
+  vtkCellArray* polys = boundary->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    if (npts != 3)
+    {
+      continue;
+    }
+    double a[3], b[3], c[3], n[3];
+    boundary->GetPoint(ids[0], a);
+    boundary->GetPoint(ids[1], b);
+    boundary->GetPoint(ids[2], c);
+    vtkTriangle::ComputeNormal(a, b, c, n);
+    const double area = vtkTriangle::TriangleArea(a, b, c);
+    if (!(area > 0.0))
+    {
+      continue;
+    }
+    int big = 0;
+    for (int k = 1; k < 3; ++k)
+    {
+      big = std::abs(n[k]) > std::abs(n[big]) ? k : big;
+    }
+    if (n[big] < 0.0)
+    {
+      n[0] = -n[0];
+      n[1] = -n[1];
+      n[2] = -n[2];
+    }
+    const double d = vtkMath::Dot(n, a);
+    const std::array<long long, 4> key = { std::llround(n[0] * 1e4), std::llround(n[1] * 1e4),
+      std::llround(n[2] * 1e4), std::llround(d / (1e-5 * diagonal)) };
+    Patch& p = patches[key];
+    p.Area += area;
+    for (int k = 0; k < 3; ++k)
+    {
+      p.Normal[k] += area * n[k];
+    }
+    p.Offset += area * d;
+    total += area;
+  }
+  // The points on open edges of the feature surface.
+  std::map<std::pair<std::int64_t, std::int64_t>, int> edgeUse;
+  for (std::size_t t = 0; t < triangles.size(); t += 3)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::int64_t u = triangles[t + k], v = triangles[t + (k + 1) % 3];
+      ++edgeUse[{ std::min(u, v), std::max(u, v) }];
+    }
+  }
+  std::set<std::int64_t> open;
+  for (const auto& e : edgeUse)
+  {
+    if (e.second == 1)
+    {
+      open.insert(e.first.first);
+      open.insert(e.first.second);
+    }
+  }
+  std::vector<double> planes;
+  for (auto& entry : patches)
+  {
+    Patch& p = entry.second;
+    if (p.Area < 0.005 * total)
+    {
+      continue;
+    }
+    vtkMath::Normalize(p.Normal);
+    const double d = p.Offset / p.Area;
+    int on = 0;
+    double dots = 0.0;
+    for (std::int64_t i : open)
+    {
+      if (std::abs(vtkMath::Dot(p.Normal, &points[3 * i]) - d) <= 1e-5 * diagonal)
+      {
+        ++on;
+        dots += std::abs(vtkMath::Dot(p.Normal, &normals[3 * i]));
+      }
+    }
+    if (on >= 3 && on >= 0.1 * static_cast<double>(open.size()) &&
+      dots / on < std::sin(vtkMath::RadiansFromDegrees(15.0)))
+    {
+      planes.insert(planes.end(), { d * p.Normal[0], d * p.Normal[1], d * p.Normal[2], p.Normal[0],
+                                    p.Normal[1], p.Normal[2] });
+    }
+  }
+  return planes;
 }
 }
 
@@ -490,6 +605,35 @@ int vtkMedialAxisDelaunay::RequestData(
     options.SymmetryPlanes.insert(options.SymmetryPlanes.end(), this->SymmetryPlaneNormal,
       this->SymmetryPlaneNormal + 3);
   }
+  if (this->SymmetryPlanesFromDomain)
+  {
+    if (!hasDomain)
+    {
+      vtkWarningMacro(<< "SymmetryPlanesFromDomain needs a Domain input; no plane was picked.");
+    }
+    else
+    {
+      const std::vector<double> picked = SymmetryPlanesFromBoundary(
+        boundary, points, normals, triangles, std::sqrt(surface->GetLength2()) + std::sqrt(boundary->GetLength2()));
+      for (std::size_t k = 0; k < picked.size(); k += 6)
+      {
+        bool known = false; // the same plane given by hand
+        for (std::size_t j = 0; j + 5 < options.SymmetryPlanes.size(); j += 6)
+        {
+          double n[3] = { options.SymmetryPlanes[j + 3], options.SymmetryPlanes[j + 4],
+            options.SymmetryPlanes[j + 5] };
+          vtkMath::Normalize(n);
+          const double gap = vtkMath::Dot(n, &picked[k]) - vtkMath::Dot(n, &options.SymmetryPlanes[j]);
+          known = known || (std::abs(std::abs(vtkMath::Dot(n, &picked[k + 3])) - 1.0) < 1e-6 &&
+                             std::abs(gap) <= 1e-6 * std::sqrt(boundary->GetLength2()));
+        }
+        if (!known)
+        {
+          options.SymmetryPlanes.insert(options.SymmetryPlanes.end(), picked.begin() + k, picked.begin() + k + 6);
+        }
+      }
+    }
+  }
   ar::MedialSheet sheet;
   std::string error;
   const bool ok = ar::ComputeMedialSheet(points.data(), static_cast<std::size_t>(nPoints),
@@ -704,6 +848,14 @@ int vtkMedialAxisDelaunay::RequestData(
   count("InteriorTetrahedra", sheet.NumberOfInteriorTetrahedra);
   count("VoronoiFacets", sheet.NumberOfFacets);
   count("MirrorCopies", sheet.NumberOfMirrorCopies);
+  vtkNew<vtkDoubleArray> used;
+  used->SetName("SymmetryPlanesUsed");
+  used->SetNumberOfComponents(6);
+  for (std::size_t k = 0; k + 5 < options.SymmetryPlanes.size(); k += 6)
+  {
+    used->InsertNextTuple(&options.SymmetryPlanes[k]);
+  }
+  output->GetFieldData()->AddArray(used);
   if (output->GetNumberOfCells() == 0)
   {
     vtkWarningMacro(<< "No medial sheet survived the pruning (" << sheet.NumberOfInteriorTetrahedra
@@ -731,6 +883,7 @@ void vtkMedialAxisDelaunay::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SymmetryPlanes: " << this->GetNumberOfSymmetryPlanes() << "\n";
   os << indent << "UseSymmetryPlaneWidget: " << this->UseSymmetryPlaneWidget << "\n";
   os << indent << "SymmetryTrimDistance: " << this->SymmetryTrimDistance << "\n";
+  os << indent << "SymmetryPlanesFromDomain: " << this->SymmetryPlanesFromDomain << "\n";
   os << indent << "FillHoles: " << this->FillHoles << "\n";
   os << indent << "MaximumHoleSize: " << this->MaximumHoleSize << "\n";
 }

@@ -132,6 +132,18 @@ public:
   ///@}
 
   ///@{
+  /// Also take as symmetry planes the Domain's planar boundary patches that
+  /// hold at least 10 % of the feature surface's open-edge points and on
+  /// which the surface ends at a right angle (an isosurface stands
+  /// orthogonally on a plane of symmetry; a shock leaving through an outlet
+  /// or meeting a wall does not). The planes used are the field array
+  /// `SymmetryPlanesUsed`. Default off.
+  vtkSetMacro(SymmetryPlanesFromDomain, bool);
+  vtkGetMacro(SymmetryPlanesFromDomain, bool);
+  vtkBooleanMacro(SymmetryPlanesFromDomain, bool);
+  ///@}
+
+  ///@{
   /// How far short of a symmetry plane the sheet is cut before its open edges
   /// near the plane are extended orthogonally onto it (vtkExtendToPlane, for
   /// edges within SymmetryTrimDistance + 2 median surface edge lengths).
@@ -180,6 +192,7 @@ private:
   double SymmetryPlaneOrigin[3] = { 0.0, 0.0, 0.0 };
   double SymmetryPlaneNormal[3] = { 0.0, 0.0, 1.0 };
   double SymmetryTrimDistance = 0.0;
+  bool SymmetryPlanesFromDomain = false;
   bool FillHoles = true;
   double MaximumHoleSize = 2.0;
 };

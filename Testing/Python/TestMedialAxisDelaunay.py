@@ -169,6 +169,22 @@ check(near.sum() > 10 and np.average(tilt, weights=area[near]) < 10.0,
       "cone: %d triangles reach the symmetry plane, standing on it at %.1f deg from orthogonal (area-weighted mean)"
       % (near.sum(), np.average(tilt, weights=area[near])))
 
+# ---- Symmetry planes picked from the domains' planar boundary patches: the
+# wedge's front and back (not its outlet, walls or inlet), the cone's z = 0.
+def picked(proxy):
+    out = artest.fetch(proxy)
+    return np.asarray(out.FieldData["SymmetryPlanesUsed"]).reshape(-1, 6), out
+
+
+planes_w, auto_w = picked(MedialAxisDelaunay(Input=contour, Domain=reader, SymmetryPlanesFromDomain=1))
+expected = np.array([[0, 0, zlo, 0, 0, 1], [0, 0, zhi, 0, 0, 1]])
+found = len(planes_w) == 2 and all(np.abs(planes_w - e).max(axis=1).min() < 1e-6 for e in expected)
+check(found and len(auto_w.FieldData["SheetAreas"]) == 1,
+      "wedge: SymmetryPlanesFromDomain picks the front and back planes only (%s), one sheet" % planes_w.round(4).tolist())
+planes_c, _ = picked(MedialAxisDelaunay(Input=ccontour, Domain=cone, SymmetryPlanesFromDomain=1))
+check(len(planes_c) == 1 and abs(planes_c[0, 2]) < 1e-9 and abs(abs(planes_c[0, 5]) - 1) < 1e-9,
+      "cone: SymmetryPlanesFromDomain picks the plane z = 0 only (%s)" % planes_c.round(4).tolist())
+
 # ---- Bad input.
 def refused(proxy, fragment, label):
     before = len(messages.GetOutput())

@@ -454,11 +454,11 @@ vtkSmartPointer<vtkPolyData> BoundarySurface(vtkDataSet* domain)
   surface->GetCellData()->Initialize();
   return surface;
 }
+}
 
-/// Rank 0 gets the union of the ranks' boundary pieces. Faces between two
-/// pieces (distributed without ghost cells) appear once from each side:
-/// after merging coincident points they are dropped.
-vtkSmartPointer<vtkPolyData> GatherBoundary(vtkPolyData* local)
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkPolyData> vtkARMeshKernels::GatherPolyData(
+  vtkPolyData* local, double tolerance, bool dropSharedTriangles)
 {
   vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
   vtkMultiProcessController* ctrl = (c && c->GetNumberOfProcesses() > 1) ? c : nullptr;
@@ -476,7 +476,8 @@ vtkSmartPointer<vtkPolyData> GatherBoundary(vtkPolyData* local)
   vtkNew<vtkAppendPolyData> append;
   for (auto& piece : pieces)
   {
-    if (auto* pd = vtkPolyData::SafeDownCast(piece))
+    auto* pd = vtkPolyData::SafeDownCast(piece);
+    if (pd && pd->GetNumberOfCells() > 0)
     {
       append->AddInputData(pd);
     }
@@ -487,7 +488,8 @@ vtkSmartPointer<vtkPolyData> GatherBoundary(vtkPolyData* local)
   }
   vtkNew<vtkStaticCleanPolyData> merge;
   merge->SetInputConnection(append->GetOutputPort());
-  merge->SetTolerance(0.0);
+  merge->ToleranceIsAbsoluteOff();
+  merge->SetTolerance(tolerance);
   merge->Update();
   vtkPolyData* merged = merge->GetOutput();
   std::map<std::array<vtkIdType, 3>, int> count;
@@ -508,23 +510,38 @@ vtkSmartPointer<vtkPolyData> GatherBoundary(vtkPolyData* local)
   {
     if (npts != 3)
     {
+      kept->InsertNextCell(npts, ids);
       continue;
     }
     std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
     std::sort(key.begin(), key.end());
-    if (count[key] == 1)
+    int& n = count[key];
+    if (dropSharedTriangles ? n == 1 : n > 0)
     {
       kept->InsertNextCell(3, ids);
     }
+    n = dropSharedTriangles ? n : 0; // keep the first copy only
   }
-  result->SetPoints(merged->GetPoints());
+  result->ShallowCopy(merged);
   result->SetPolys(kept);
   return result;
 }
 
-}
-
 vtkSmartPointer<vtkPolyData> vtkARMeshKernels::GatherDomainBoundary(vtkDataSet* domain)
 {
-  return GatherBoundary(BoundarySurface(domain));
+  // Faces between two pieces (distributed without ghost cells) appear once
+  // from each side: after merging coincident points they are dropped.
+  return GatherPolyData(BoundarySurface(domain), 0.0, true);
+}
+
+vtkSmartPointer<vtkDoubleArray> vtkARMeshKernels::FieldArray(const char* name, const double* values, int n)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfTuples(n);
+  for (int i = 0; i < n; ++i)
+  {
+    a->SetValue(i, values[i]);
+  }
+  return a;
 }

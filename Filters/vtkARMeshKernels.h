@@ -26,6 +26,7 @@
 class vtkAlgorithm;
 class vtkInformationVector;
 class vtkDataArray;
+class vtkDoubleArray;
 class vtkDataSet;
 class vtkPolyData;
 class vtkDataSetAttributes;
@@ -192,6 +193,17 @@ public:
   /// triangles, whole on rank 0 and empty on the other ranks. Faces between
   /// two ranks' pieces are dropped. Collective: every rank must call it.
   static vtkSmartPointer<vtkPolyData> GatherDomainBoundary(vtkDataSet* domain);
+
+  /// Rank 0 gets the union of the ranks' polydata (returned as is in serial,
+  /// empty on the other ranks), points merged within `tolerance` times the
+  /// bounding-box diagonal (0: exact duplicates only). A triangle present
+  /// more than once is dropped altogether when `dropSharedTriangles` (faces
+  /// between pieces), else kept once. Collective.
+  static vtkSmartPointer<vtkPolyData> GatherPolyData(
+    vtkPolyData* local, double tolerance, bool dropSharedTriangles);
+
+  /// A named double field array holding `n` values.
+  static vtkSmartPointer<vtkDoubleArray> FieldArray(const char* name, const double* values, int n);
 };
 
 //------------------------------------------------------------------------------

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkExtendToPlane.h"
+#include "vtkARMeshKernels.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -67,17 +68,6 @@ struct Edge
   vtkIdType to;
 };
 
-vtkSmartPointer<vtkDoubleArray> Field(const char* name, const double* values, int n)
-{
-  auto a = vtkSmartPointer<vtkDoubleArray>::New();
-  a->SetName(name);
-  a->SetNumberOfTuples(n);
-  for (int i = 0; i < n; ++i)
-  {
-    a->SetValue(i, values[i]);
-  }
-  return a;
-}
 }
 
 vtkExtendToPlane::vtkExtendToPlane() = default;
@@ -426,11 +416,11 @@ int vtkExtendToPlane::RequestData(
   output->SetPolys(outPolys);
   outCD->AddArray(flag);
   output->GetFieldData()->PassData(input->GetFieldData());
-  output->GetFieldData()->AddArray(Field("ExtendPlaneNormal", n, 3));
-  output->GetFieldData()->AddArray(Field("ExtendMeanEdgeLength", &h, 1));
-  output->GetFieldData()->AddArray(Field("ExtendMaximumGap", &gap, 1));
+  output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("ExtendPlaneNormal", n, 3));
+  output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("ExtendMeanEdgeLength", &h, 1));
+  output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("ExtendMaximumGap", &gap, 1));
   const double count = static_cast<double>(this->NumberOfExtendedEdges);
-  output->GetFieldData()->AddArray(Field("NumberOfExtendedEdges", &count, 1));
+  output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("NumberOfExtendedEdges", &count, 1));
   if (extended.empty())
   {
     vtkWarningMacro("ExtendToPlane: no open boundary edge lies within MaximumGap = "

@@ -4,7 +4,6 @@
 #include "ARMedialAxis.h"
 #include "vtkARMeshKernels.h"
 
-#include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCell.h"
@@ -34,7 +33,6 @@
 #include "vtkPolyDataNormals.h"
 #include "vtkSmartPointer.h"
 #include "vtkSmoothPolyDataFilter.h"
-#include "vtkStaticCleanPolyData.h"
 #include "vtkTriangle.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWindowedSincPolyDataFilter.h"
@@ -100,67 +98,6 @@ vtkSmartPointer<vtkPolyData> LocalSurface(vtkDataSet* input)
   surface->GetPointData()->ShallowCopy(pd->GetPointData());
   surface->SetPolys(owned);
   return surface;
-}
-
-/// Rank 0 gets the union of the ranks' surfaces with the points of piece
-/// interfaces merged and any triangle made twice kept once.
-vtkSmartPointer<vtkPolyData> GatherSurface(vtkPolyData* local)
-{
-  vtkMultiProcessController* ctrl = Controller();
-  if (!ctrl)
-  {
-    return local;
-  }
-  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
-  ctrl->Gather(local, pieces, 0);
-  auto result = vtkSmartPointer<vtkPolyData>::New();
-  if (ctrl->GetLocalProcessId() != 0)
-  {
-    return result;
-  }
-  vtkNew<vtkAppendPolyData> append;
-  for (auto& piece : pieces)
-  {
-    auto* pd = vtkPolyData::SafeDownCast(piece);
-    if (pd && pd->GetNumberOfCells() > 0)
-    {
-      append->AddInputData(pd);
-    }
-  }
-  if (append->GetNumberOfInputConnections(0) == 0)
-  {
-    return result;
-  }
-  // Both ranks interpolate the contour points on the edges of their shared
-  // faces, which can differ in the last bits: merge within 1e-9 of the
-  // bounding box diagonal.
-  vtkNew<vtkStaticCleanPolyData> merge;
-  merge->SetInputConnection(append->GetOutputPort());
-  merge->ToleranceIsAbsoluteOff();
-  merge->SetTolerance(1e-9);
-  merge->Update();
-  vtkPolyData* merged = merge->GetOutput();
-  std::set<std::array<vtkIdType, 3>> seen;
-  vtkNew<vtkCellArray> kept;
-  vtkIdType npts;
-  const vtkIdType* ids;
-  vtkCellArray* polys = merged->GetPolys();
-  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
-  {
-    if (npts == 3)
-    {
-      std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
-      std::sort(key.begin(), key.end());
-      if (!seen.insert(key).second)
-      {
-        continue;
-      }
-    }
-    kept->InsertNextCell(npts, ids);
-  }
-  result->ShallowCopy(merged);
-  result->SetPolys(kept);
-  return result;
 }
 
 const char* CellKind(int npts)
@@ -353,7 +290,11 @@ int vtkMedialAxisDelaunay::RequestData(
   const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
 
   // Collective steps first, so that every rank reaches them.
-  vtkSmartPointer<vtkPolyData> surface = GatherSurface(LocalSurface(input));
+  // Both ranks interpolate the contour points on the edges of their shared
+  // faces, which can differ in the last bits: merge within 1e-9 of the
+  // bounding-box diagonal.
+  vtkSmartPointer<vtkPolyData> surface =
+    vtkARMeshKernels::GatherPolyData(LocalSurface(input), 1e-9, false);
   vtkSmartPointer<vtkPolyData> boundary;
   if (hasDomain)
   {
@@ -839,10 +780,8 @@ int vtkMedialAxisDelaunay::RequestData(
   }
   output->GetFieldData()->AddArray(areas);
   auto count = [&](const char* name, std::size_t value) {
-    vtkNew<vtkDoubleArray> a;
-    a->SetName(name);
-    a->InsertNextValue(static_cast<double>(value));
-    output->GetFieldData()->AddArray(a);
+    const double v = static_cast<double>(value);
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &v, 1));
   };
   count("DelaunayTetrahedra", sheet.NumberOfTetrahedra);
   count("InteriorTetrahedra", sheet.NumberOfInteriorTetrahedra);

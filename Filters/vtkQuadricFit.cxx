@@ -94,17 +94,6 @@ double Median(std::vector<double>& v)
   return v[mid];
 }
 
-vtkSmartPointer<vtkDoubleArray> Field(const char* name, const double* values, int n)
-{
-  auto a = vtkSmartPointer<vtkDoubleArray>::New();
-  a->SetName(name);
-  a->SetNumberOfTuples(n);
-  for (int i = 0; i < n; ++i)
-  {
-    a->SetValue(i, values[i]);
-  }
-  return a;
-}
 
 /**
  * Signed distance values at the points of a triangle mesh, for cutting it at
@@ -666,18 +655,18 @@ int vtkQuadricFit::RequestData(
   name->SetName("Template");
   name->InsertNextValue(ar::SurfaceTemplateName(fit.Template));
   fd->AddArray(name);
-  fd->AddArray(Field("Coefficients", fit.Coefficients.data(), static_cast<int>(fit.Coefficients.size())));
-  fd->AddArray(Field("RMSResidual", &fit.RMSResidual, 1));
-  fd->AddArray(Field("WeightedRMSResidual", &fit.WeightedRMSResidual, 1));
+  fd->AddArray(vtkARMeshKernels::FieldArray("Coefficients", fit.Coefficients.data(), static_cast<int>(fit.Coefficients.size())));
+  fd->AddArray(vtkARMeshKernels::FieldArray("RMSResidual", &fit.RMSResidual, 1));
+  fd->AddArray(vtkARMeshKernels::FieldArray("WeightedRMSResidual", &fit.WeightedRMSResidual, 1));
   const double count = static_cast<double>(n);
-  fd->AddArray(Field("NumberOfFitPoints", &count, 1));
-  fd->AddArray(Field("SurfaceEdgeLength", &h, 1));
-  fd->AddArray(Field("FrameOrigin", fit.FrameOrigin, 3));
+  fd->AddArray(vtkARMeshKernels::FieldArray("NumberOfFitPoints", &count, 1));
+  fd->AddArray(vtkARMeshKernels::FieldArray("SurfaceEdgeLength", &h, 1));
+  fd->AddArray(vtkARMeshKernels::FieldArray("FrameOrigin", fit.FrameOrigin, 3));
   double axes[9];
   std::copy(fit.FrameX, fit.FrameX + 3, axes);
   std::copy(fit.FrameY, fit.FrameY + 3, axes + 3);
   std::copy(fit.FrameZ, fit.FrameZ + 3, axes + 6);
-  auto frameAxes = Field("FrameAxes", axes, 9);
+  auto frameAxes = vtkARMeshKernels::FieldArray("FrameAxes", axes, 9);
   frameAxes->SetNumberOfComponents(3);
   frameAxes->SetNumberOfTuples(3);
   for (int i = 0; i < 9; ++i)
@@ -687,14 +676,14 @@ int vtkQuadricFit::RequestData(
   fd->AddArray(frameAxes);
   if (fit.Template == ar::SurfaceTemplate::Plane)
   {
-    fd->AddArray(Field("Normal", fit.Normal, 3));
-    fd->AddArray(Field("Origin", fit.Origin, 3));
+    fd->AddArray(vtkARMeshKernels::FieldArray("Normal", fit.Normal, 3));
+    fd->AddArray(vtkARMeshKernels::FieldArray("Origin", fit.Origin, 3));
   }
   else if (fit.Template == ar::SurfaceTemplate::Cone)
   {
-    fd->AddArray(Field("Apex", fit.Apex, 3));
-    fd->AddArray(Field("AxisDirection", fit.AxisDirection, 3));
-    fd->AddArray(Field("HalfAngle", &fit.HalfAngleDegrees, 1));
+    fd->AddArray(vtkARMeshKernels::FieldArray("Apex", fit.Apex, 3));
+    fd->AddArray(vtkARMeshKernels::FieldArray("AxisDirection", fit.AxisDirection, 3));
+    fd->AddArray(vtkARMeshKernels::FieldArray("HalfAngle", &fit.HalfAngleDegrees, 1));
   }
   this->UpdateProgress(1.0);
   return 1;

@@ -145,39 +145,11 @@ std::string TetGenSwitches(const TetGenOptions& options)
   return s.str();
 }
 
-bool TetGenTetrahedralizeSurface(const double* xyz, std::size_t nPoints,
-  const std::int64_t* triangles, std::size_t nTriangles, const TetGenOptions& options,
-  TetMesh& out, std::string& error)
+namespace
 {
-  out = TetMesh();
-  if (!ValidateSurface(xyz, nPoints, triangles, nTriangles, error))
-  {
-    return false;
-  }
-
-  tetgenio in, result;
-  in.firstnumber = 0;
-  in.numberofpoints = static_cast<int>(nPoints);
-  in.pointlist = new REAL[3 * nPoints];
-  std::copy(xyz, xyz + 3 * nPoints, in.pointlist);
-  in.numberoffacets = static_cast<int>(nTriangles);
-  in.facetlist = new tetgenio::facet[nTriangles];
-  for (std::size_t t = 0; t < nTriangles; ++t)
-  {
-    tetgenio::facet& f = in.facetlist[t];
-    tetgenio::init(&f);
-    f.numberofpolygons = 1;
-    f.polygonlist = new tetgenio::polygon[1];
-    tetgenio::init(&f.polygonlist[0]);
-    f.polygonlist[0].numberofvertices = 3;
-    f.polygonlist[0].vertexlist = new int[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      f.polygonlist[0].vertexlist[k] = static_cast<int>(triangles[3 * t + k]);
-    }
-  }
-
-  std::string switches = TetGenSwitches(options);
+/// Runs TetGen with `switches`; on failure `error` says why.
+bool RunTetGen(tetgenio& in, tetgenio& result, const std::string& switches, std::string& error)
+{
   std::vector<char> sw(switches.begin(), switches.end());
   sw.push_back('\0');
   try
@@ -211,12 +183,17 @@ bool TetGenTetrahedralizeSurface(const double* xyz, std::size_t nPoints,
     error = "TetGen failed with an unexpected exception (switches '" + switches + "').";
     return false;
   }
-
   if (result.numberoftetrahedra <= 0 || result.numberofcorners != 4)
   {
-    error = "TetGen produced no linear tetrahedra.";
+    error = "TetGen produced no linear tetrahedra (switches '" + switches + "').";
     return false;
   }
+  return true;
+}
+
+/// TetGen's tetrahedra as a TetMesh, each positively oriented.
+void CopyTetrahedra(const tetgenio& result, TetMesh& out)
+{
   out.Points.assign(result.pointlist, result.pointlist + 3 * result.numberofpoints);
   out.Tetrahedra.resize(4 * static_cast<std::size_t>(result.numberoftetrahedra));
   for (std::size_t t = 0; t < static_cast<std::size_t>(result.numberoftetrahedra); ++t)
@@ -233,6 +210,159 @@ bool TetGenTetrahedralizeSurface(const double* xyz, std::size_t nPoints,
       std::swap(v[1], v[2]);
     }
   }
+}
+
+void AddTriangleFacets(tetgenio& in, const std::int64_t* triangles, std::size_t nTriangles,
+  const int* markers)
+{
+  in.numberoffacets = static_cast<int>(nTriangles);
+  in.facetlist = new tetgenio::facet[nTriangles];
+  if (markers)
+  {
+    in.facetmarkerlist = new int[nTriangles];
+  }
+  for (std::size_t t = 0; t < nTriangles; ++t)
+  {
+    tetgenio::facet& f = in.facetlist[t];
+    tetgenio::init(&f);
+    f.numberofpolygons = 1;
+    f.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&f.polygonlist[0]);
+    f.polygonlist[0].numberofvertices = 3;
+    f.polygonlist[0].vertexlist = new int[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      f.polygonlist[0].vertexlist[k] = static_cast<int>(triangles[3 * t + k]);
+    }
+    if (markers)
+    {
+      in.facetmarkerlist[t] = markers[t];
+    }
+  }
+}
+}
+
+bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& options,
+  TetGenResult& out, std::string& error)
+{
+  out = TetGenResult();
+  const std::size_t nPoints = plc.Points.size() / 3;
+  const std::size_t nTriangles = plc.Triangles.size() / 3;
+  if (nPoints < 4 || nTriangles < 4)
+  {
+    error = "the complex has " + std::to_string(nPoints) + " points and " +
+      std::to_string(nTriangles) + " triangles; a closed shell needs at least 4 of each.";
+    return false;
+  }
+  for (double v : plc.Points)
+  {
+    if (!std::isfinite(v))
+    {
+      error = "the complex has a non-finite coordinate.";
+      return false;
+    }
+  }
+  for (std::int64_t id : plc.Triangles)
+  {
+    if (id < 0 || static_cast<std::size_t>(id) >= nPoints)
+    {
+      error = "a triangle of the complex refers to a point that does not exist.";
+      return false;
+    }
+  }
+  if (!plc.TriangleMarkers.empty() && plc.TriangleMarkers.size() != nTriangles)
+  {
+    error = "the complex has " + std::to_string(plc.TriangleMarkers.size()) + " markers for " +
+      std::to_string(nTriangles) + " triangles.";
+    return false;
+  }
+  const bool sized = !plc.PointSizes.empty();
+  if (sized && plc.PointSizes.size() != nPoints)
+  {
+    error = "the complex has " + std::to_string(plc.PointSizes.size()) + " point sizes for " +
+      std::to_string(nPoints) + " points.";
+    return false;
+  }
+  for (double h : plc.PointSizes)
+  {
+    if (!(h > 0.0) || !std::isfinite(h))
+    {
+      error = "a point size of the complex is not a positive number.";
+      return false;
+    }
+  }
+
+  tetgenio in, result;
+  in.firstnumber = 0;
+  in.numberofpoints = static_cast<int>(nPoints);
+  in.pointlist = new REAL[3 * nPoints];
+  std::copy(plc.Points.begin(), plc.Points.end(), in.pointlist);
+  if (sized)
+  {
+    in.numberofpointmtrs = 1;
+    in.pointmtrlist = new REAL[nPoints];
+    std::copy(plc.PointSizes.begin(), plc.PointSizes.end(), in.pointmtrlist);
+  }
+  std::vector<int> markers(plc.TriangleMarkers.begin(), plc.TriangleMarkers.end());
+  if (markers.empty())
+  {
+    markers.assign(nTriangles, 1);
+  }
+  AddTriangleFacets(in, plc.Triangles.data(), nTriangles, markers.data());
+  const std::size_t nHoles = plc.Holes.size() / 3;
+  if (nHoles > 0)
+  {
+    in.numberofholes = static_cast<int>(nHoles);
+    in.holelist = new REAL[3 * nHoles];
+    std::copy(plc.Holes.begin(), plc.Holes.begin() + 3 * nHoles, in.holelist);
+  }
+  std::string switches = TetGenSwitches(options);
+  if (sized)
+  {
+    switches.insert(switches.size() - 1, "m"); // before the final Q
+  }
+  if (!RunTetGen(in, result, switches, error))
+  {
+    return false;
+  }
+  CopyTetrahedra(result, out.Mesh);
+  out.Faces.resize(3 * static_cast<std::size_t>(result.numberoftrifaces));
+  out.FaceMarkers.assign(static_cast<std::size_t>(result.numberoftrifaces), 0);
+  for (std::size_t f = 0; f < static_cast<std::size_t>(result.numberoftrifaces); ++f)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      out.Faces[3 * f + k] = result.trifacelist[3 * f + k] - result.firstnumber;
+    }
+    if (result.trifacemarkerlist)
+    {
+      out.FaceMarkers[f] = result.trifacemarkerlist[f];
+    }
+  }
+  return true;
+}
+
+bool TetGenTetrahedralizeSurface(const double* xyz, std::size_t nPoints,
+  const std::int64_t* triangles, std::size_t nTriangles, const TetGenOptions& options,
+  TetMesh& out, std::string& error)
+{
+  out = TetMesh();
+  if (!ValidateSurface(xyz, nPoints, triangles, nTriangles, error))
+  {
+    return false;
+  }
+
+  tetgenio in, result;
+  in.firstnumber = 0;
+  in.numberofpoints = static_cast<int>(nPoints);
+  in.pointlist = new REAL[3 * nPoints];
+  std::copy(xyz, xyz + 3 * nPoints, in.pointlist);
+  AddTriangleFacets(in, triangles, nTriangles, nullptr);
+  if (!RunTetGen(in, result, TetGenSwitches(options), error))
+  {
+    return false;
+  }
+  CopyTetrahedra(result, out);
   return true;
 }
 }

@@ -42,6 +42,34 @@ bool TetGenTetrahedralizeSurface(const double* xyz, std::size_t nPoints,
 
 /// The command-line switches that `options` stand for (e.g. "pq1.414/12YQ").
 std::string TetGenSwitches(const TetGenOptions& options);
+
+/// A piecewise linear complex for TetGen: closed shells of triangles
+/// bounding the region(s) to mesh, internal triangles to embed, hole points
+/// (TetGen removes the tetrahedra of the region around each), and optionally
+/// a desired edge length per point (TetGen's -m size field).
+struct PiecewiseLinearComplex
+{
+  std::vector<double> Points;          ///< x y z triples
+  std::vector<std::int64_t> Triangles; ///< 3 point indices each
+  std::vector<int> TriangleMarkers;    ///< one per triangle (empty: all 1)
+  std::vector<double> Holes;           ///< x y z per hole point
+  std::vector<double> PointSizes;      ///< one per point, > 0 (empty: no size field)
+};
+
+struct TetGenResult
+{
+  TetMesh Mesh;                        ///< the input points first, in order; positively oriented
+  std::vector<std::int64_t> Faces;     ///< triangles lying on input facets, 3 ids each
+  std::vector<int> FaceMarkers;        ///< the marker of the facet each lies on
+};
+
+/**
+ * Constrained (quality) tetrahedralization of a piecewise linear complex.
+ * Checks coordinates, indices and sizes only (the caller vouches for the
+ * complex: no crossing facets); TetGen failures (its int throws) are caught.
+ */
+bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& options,
+  TetGenResult& out, std::string& error);
 }
 
 #endif

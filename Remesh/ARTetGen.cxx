@@ -141,6 +141,10 @@ std::string TetGenSwitches(const TetGenOptions& options)
   {
     s << "Y";
   }
+  if (options.OptimizationLevel > 0)
+  {
+    s << "O" << options.OptimizationLevel << "/7";
+  }
   s << "Q";
   return s.str();
 }

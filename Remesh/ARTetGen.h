@@ -22,6 +22,9 @@ struct TetGenOptions
   double MaxVolume = 0.0;
   /// Keep the boundary triangles exactly as given (-Y): no Steiner points on the surface.
   bool PreserveSurface = true;
+  /// Mesh optimization level of TetGen's -O switch (flips and smoothing that
+  /// remove slivers; 0 = TetGen's default, 2).
+  int OptimizationLevel = 0;
 };
 
 /**

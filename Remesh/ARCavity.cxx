@@ -1,0 +1,581 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "ARCavity.h"
+
+#include "ARTetGeometry.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Fuzzy_sphere.h>
+#include <CGAL/Kd_tree.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Search_traits_3.h>
+#include <CGAL/Search_traits_adapter.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/property_map.h>
+
+#include <boost/tuple/tuple.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+namespace ar
+{
+namespace
+{
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Segment = Kernel::Segment_3;
+using Ray = Kernel::Ray_3;
+using Triangle = Kernel::Triangle_3;
+using TriangleIterator = std::vector<Triangle>::const_iterator;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using IndexedPoint = boost::tuple<Point, std::size_t>;
+using SearchTraits = CGAL::Search_traits_adapter<IndexedPoint,
+  CGAL::Nth_of_tuple_property_map<0, IndexedPoint>, CGAL::Search_traits_3<Kernel>>;
+using KdTree = CGAL::Kd_tree<SearchTraits>;
+using Sphere = CGAL::Fuzzy_sphere<SearchTraits>;
+
+constexpr int FaceVertex[4][3] = { { 1, 2, 3 }, { 0, 3, 2 }, { 0, 1, 3 }, { 0, 2, 1 } };
+
+struct UnionFind
+{
+  std::vector<std::int64_t> Parent;
+  explicit UnionFind(std::size_t n)
+    : Parent(n)
+  {
+    std::iota(this->Parent.begin(), this->Parent.end(), std::int64_t(0));
+  }
+  std::int64_t Find(std::int64_t i)
+  {
+    while (this->Parent[i] != i)
+    {
+      this->Parent[i] = this->Parent[this->Parent[i]];
+      i = this->Parent[i];
+    }
+    return i;
+  }
+  void Union(std::int64_t a, std::int64_t b)
+  {
+    a = this->Find(a);
+    b = this->Find(b);
+    if (a != b)
+    {
+      this->Parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+};
+
+Point P(const double* x)
+{
+  return Point(x[0], x[1], x[2]);
+}
+
+double Distance(const double* a, const double* b)
+{
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+    (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+bool Finite(const std::vector<double>& v)
+{
+  return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+}
+
+/// Parity of boundary crossings along three rays (majority), for "inside V".
+bool Inside(const Tree& tree, const Point& p)
+{
+  static const double dirs[3][3] = { { 0.5773, 0.5774, 0.5775 }, { -0.3123, 0.8541, 0.4157 },
+    { 0.7071, -0.1234, -0.6963 } };
+  int votes = 0;
+  for (const auto& d : dirs)
+  {
+    const Ray ray(p, Kernel::Vector_3(d[0], d[1], d[2]));
+    votes += (tree.number_of_intersected_primitives(ray) % 2 == 1) ? 1 : 0;
+  }
+  return votes >= 2;
+}
+}
+
+bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
+  const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,
+  CavityRemesh& out, std::string& error)
+{
+  out = CavityRemesh();
+  const std::size_t nV = V.NumberOfPoints();
+  const std::size_t nT = V.NumberOfTetrahedra();
+  // ---- Validation.
+  if (nV < 4 || nT == 0)
+  {
+    error = "the volume mesh is empty (no tetrahedra).";
+    return false;
+  }
+  if (nSurfacePoints < 3 || nSurfaceTriangles == 0)
+  {
+    error = "the feature surface is empty (no triangles).";
+    return false;
+  }
+  if (!Finite(V.Points))
+  {
+    error = "the volume mesh has a non-finite coordinate.";
+    return false;
+  }
+  std::vector<double> S(surfacePoints, surfacePoints + 3 * nSurfacePoints);
+  if (!Finite(S))
+  {
+    error = "the feature surface has a non-finite coordinate.";
+    return false;
+  }
+  for (std::size_t k = 0; k < 3 * nSurfaceTriangles; ++k)
+  {
+    if (surfaceTriangles[k] < 0 || static_cast<std::size_t>(surfaceTriangles[k]) >= nSurfacePoints)
+    {
+      error = "a triangle of the feature surface refers to a point that does not exist.";
+      return false;
+    }
+  }
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const std::int64_t* v = &V.Tetrahedra[4 * t];
+    for (int k = 0; k < 4; ++k)
+    {
+      if (v[k] < 0 || static_cast<std::size_t>(v[k]) >= nV)
+      {
+        error = "tetrahedron " + std::to_string(t) + " refers to a point that does not exist.";
+        return false;
+      }
+    }
+    const double vol = TetSignedVolume(&V.Points[3 * v[0]], &V.Points[3 * v[1]],
+      &V.Points[3 * v[2]], &V.Points[3 * v[3]]);
+    if (!(vol > 0.0))
+    {
+      std::ostringstream msg;
+      msg << "tetrahedron " << t << " of the volume mesh is inverted or flat (signed volume " << vol
+          << "); the mesh must be valid before it is remeshed.";
+      error = msg.str();
+      return false;
+    }
+  }
+
+  // ---- Longest edge at each node of V and of S.
+  // (and the mean length of the edges of the tetrahedra at each node of V,
+  // the size the refill grades to at the cavity's boundary)
+  std::vector<double> lv(nV, 0.0), ls(nSurfacePoints, 0.0), meanV(nV, 0.0), countV(nV, 0.0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const std::int64_t* v = &V.Tetrahedra[4 * t];
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = a + 1; b < 4; ++b)
+      {
+        const double l = Distance(&V.Points[3 * v[a]], &V.Points[3 * v[b]]);
+        lv[v[a]] = std::max(lv[v[a]], l);
+        lv[v[b]] = std::max(lv[v[b]], l);
+        meanV[v[a]] += l;
+        meanV[v[b]] += l;
+        countV[v[a]] += 1.0;
+        countV[v[b]] += 1.0;
+      }
+    }
+  }
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    meanV[v] = countV[v] > 0.0 ? meanV[v] / countV[v] : lv[v];
+  }
+  for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
+  {
+    const std::int64_t* f = surfaceTriangles + 3 * t;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double l = Distance(&S[3 * f[k]], &S[3 * f[(k + 1) % 3]]);
+      ls[f[k]] = std::max(ls[f[k]], l);
+      ls[f[(k + 1) % 3]] = std::max(ls[f[(k + 1) % 3]], l);
+    }
+  }
+
+  // ---- Face adjacency of V; its boundary faces.
+  std::vector<std::int64_t> neighbor(4 * nT, -1);
+  {
+    std::vector<std::pair<std::array<std::int64_t, 3>, std::int64_t>> faces;
+    faces.reserve(4 * nT);
+    for (std::size_t t = 0; t < nT; ++t)
+    {
+      for (int f = 0; f < 4; ++f)
+      {
+        std::array<std::int64_t, 3> key;
+        for (int k = 0; k < 3; ++k)
+        {
+          key[k] = V.Tetrahedra[4 * t + FaceVertex[f][k]];
+        }
+        std::sort(key.begin(), key.end());
+        faces.emplace_back(key, static_cast<std::int64_t>(4 * t + f));
+      }
+    }
+    std::sort(faces.begin(), faces.end());
+    for (std::size_t i = 0; i < faces.size();)
+    {
+      std::size_t j = i + 1;
+      while (j < faces.size() && faces[j].first == faces[i].first)
+      {
+        ++j;
+      }
+      if (j - i > 2)
+      {
+        error = "the volume mesh is not conforming: a face is shared by " + std::to_string(j - i) +
+          " tetrahedra.";
+        return false;
+      }
+      if (j - i == 2)
+      {
+        neighbor[faces[i].second] = faces[i + 1].second / 4;
+        neighbor[faces[i + 1].second] = faces[i].second / 4;
+      }
+      i = j;
+    }
+  }
+  std::vector<Triangle> boundary;
+  std::vector<char> onBoundary(nV, 0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    for (int f = 0; f < 4; ++f)
+    {
+      if (neighbor[4 * t + f] < 0)
+      {
+        const std::int64_t* v = &V.Tetrahedra[4 * t];
+        const std::int64_t a = v[FaceVertex[f][0]], b = v[FaceVertex[f][1]], c = v[FaceVertex[f][2]];
+        boundary.emplace_back(P(&V.Points[3 * a]), P(&V.Points[3 * b]), P(&V.Points[3 * c]));
+        onBoundary[a] = onBoundary[b] = onBoundary[c] = 1;
+      }
+    }
+  }
+  Tree tree(boundary.begin(), boundary.end());
+  tree.accelerate_distance_queries();
+
+  // ---- Trim S: inside V and at least BoundaryMargin * l_s from its boundary.
+  std::vector<char> usable(nSurfacePoints, 0);
+  std::size_t inside = 0;
+  for (std::size_t i = 0; i < nSurfacePoints; ++i)
+  {
+    const Point p = P(&S[3 * i]);
+    if (!Inside(tree, p))
+    {
+      continue;
+    }
+    ++inside;
+    const double d = std::sqrt(CGAL::to_double(tree.squared_distance(p)));
+    usable[i] = d >= options.BoundaryMargin * ls[i];
+  }
+  if (inside == 0)
+  {
+    error = "the feature surface lies entirely outside the volume mesh.";
+    return false;
+  }
+  std::vector<std::int64_t> sIndex(nSurfacePoints, -1);
+  std::vector<double> sPoints, sSize;
+  std::vector<std::int64_t> sTris;
+  for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
+  {
+    const std::int64_t* f = surfaceTriangles + 3 * t;
+    if (!usable[f[0]] || !usable[f[1]] || !usable[f[2]])
+    {
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      if (sIndex[f[k]] < 0)
+      {
+        sIndex[f[k]] = static_cast<std::int64_t>(sSize.size());
+        sPoints.insert(sPoints.end(), &S[3 * f[k]], &S[3 * f[k]] + 3);
+        sSize.push_back(ls[f[k]]);
+      }
+      sTris.push_back(sIndex[f[k]]);
+    }
+  }
+  out.SurfaceTrianglesUsed = sTris.size() / 3;
+  if (sTris.empty())
+  {
+    error = "nothing of the feature surface is left after trimming it back from the domain "
+            "boundary (every triangle has a point within BoundaryMargin edge lengths of it).";
+    return false;
+  }
+  // S must not cross itself (a manifold S is checked with CGAL; TetGen catches the rest).
+  {
+    namespace PMP = CGAL::Polygon_mesh_processing;
+    std::vector<Point> pts;
+    for (std::size_t i = 0; i < sSize.size(); ++i)
+    {
+      pts.push_back(P(&sPoints[3 * i]));
+    }
+    std::vector<std::array<std::size_t, 3>> faces(sTris.size() / 3);
+    for (std::size_t t = 0; t < faces.size(); ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        faces[t][k] = static_cast<std::size_t>(sTris[3 * t + k]);
+      }
+    }
+    if (PMP::is_polygon_soup_a_polygon_mesh(faces))
+    {
+      CGAL::Surface_mesh<Point> mesh;
+      PMP::polygon_soup_to_polygon_mesh(pts, faces, mesh);
+      if (PMP::does_self_intersect(mesh))
+      {
+        error = "the feature surface intersects itself.";
+        return false;
+      }
+    }
+  }
+
+  // ---- Removal: V_j within RemovalFactor * max(l_si, l_vj) of a visible S_i.
+  std::vector<IndexedPoint> indexed;
+  const std::size_t nS = sSize.size();
+  double lsMax = 0.0;
+  for (std::size_t i = 0; i < nS; ++i)
+  {
+    indexed.emplace_back(P(&sPoints[3 * i]), i);
+    lsMax = std::max(lsMax, sSize[i]);
+  }
+  KdTree kd(indexed.begin(), indexed.end());
+  kd.build();
+  std::vector<char> removed(nV, 0);
+  std::vector<IndexedPoint> found;
+  const double rf = options.RemovalFactor;
+  for (std::size_t j = 0; j < nV; ++j)
+  {
+    const double* xj = &V.Points[3 * j];
+    const Point pj = P(xj);
+    found.clear();
+    kd.search(std::back_inserter(found), Sphere(IndexedPoint(pj, 0), rf * std::max(lsMax, lv[j]), 0.0));
+    for (const IndexedPoint& q : found)
+    {
+      const std::size_t i = boost::get<1>(q);
+      const double* xi = &sPoints[3 * i];
+      if (Distance(xi, xj) >= rf * std::max(sSize[i], lv[j]))
+      {
+        continue;
+      }
+      if (options.VisibilityTest)
+      {
+        // Stop just short of V_j, which may itself lie on the boundary.
+        const double t = 1.0 - 1e-7;
+        const Point end(xi[0] + t * (xj[0] - xi[0]), xi[1] + t * (xj[1] - xi[1]), xi[2] + t * (xj[2] - xi[2]));
+        if (tree.do_intersect(Segment(boost::get<0>(q), end)))
+        {
+          continue;
+        }
+      }
+      removed[j] = 1;
+      break;
+    }
+  }
+
+  // ---- The cavity: tetrahedra touching removed nodes; its boundary faces.
+  std::vector<char> cavity(nT, 0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    for (int k = 0; k < 4; ++k)
+    {
+      cavity[t] = cavity[t] || removed[V.Tetrahedra[4 * t + k]];
+    }
+  }
+  out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
+  if (out.RemovedCells == 0)
+  {
+    error = "no node of the volume mesh lies near the feature surface: nothing to remesh.";
+    return false;
+  }
+  // Nodes of the cavity's boundary faces stay; the other nodes of cavity cells go.
+  std::vector<std::int64_t> plcIndex(nV, -1);
+  PiecewiseLinearComplex plc;
+  std::vector<double> nodeSize;
+  UnionFind kept(nT);
+  std::vector<char> touchesCavity(nT, 0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    for (int f = 0; f < 4; ++f)
+    {
+      const std::int64_t nb = neighbor[4 * t + f];
+      if (!cavity[t])
+      {
+        if (nb >= 0 && !cavity[nb])
+        {
+          kept.Union(static_cast<std::int64_t>(t), nb);
+        }
+        continue;
+      }
+      if (nb >= 0 && cavity[nb])
+      {
+        continue;
+      }
+      if (nb >= 0)
+      {
+        touchesCavity[nb] = 1;
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        const std::int64_t v = V.Tetrahedra[4 * t + FaceVertex[f][k]];
+        if (plcIndex[v] < 0)
+        {
+          plcIndex[v] = static_cast<std::int64_t>(nodeSize.size());
+          plc.Points.insert(plc.Points.end(), &V.Points[3 * v], &V.Points[3 * v] + 3);
+          nodeSize.push_back(meanV[v]);
+        }
+        plc.Triangles.push_back(plcIndex[v]);
+      }
+      plc.TriangleMarkers.push_back(nb >= 0 ? 1 : 3); // 1 kept face, 3 domain boundary
+    }
+  }
+  const auto nBoundaryNodes = static_cast<std::int64_t>(nodeSize.size());
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    out.RemovedNodes += (removed[v] && plcIndex[v] < 0) ? 1 : 0;
+  }
+  // S: internal facets, marker 2.
+  plc.Points.insert(plc.Points.end(), sPoints.begin(), sPoints.end());
+  nodeSize.insert(nodeSize.end(), sSize.begin(), sSize.end());
+  for (std::int64_t id : sTris)
+  {
+    plc.Triangles.push_back(id + nBoundaryNodes);
+  }
+  plc.TriangleMarkers.insert(plc.TriangleMarkers.end(), sTris.size() / 3, 2);
+  // One hole point per kept region next to the cavity.
+  std::vector<char> holeDone(nT, 0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    if (!touchesCavity[t])
+    {
+      continue;
+    }
+    const std::int64_t r = kept.Find(static_cast<std::int64_t>(t));
+    if (holeDone[r])
+    {
+      continue;
+    }
+    holeDone[r] = 1;
+    double c[3] = { 0.0, 0.0, 0.0 };
+    for (int k = 0; k < 4; ++k)
+    {
+      for (int d = 0; d < 3; ++d)
+      {
+        c[d] += 0.25 * V.Points[3 * V.Tetrahedra[4 * t + k] + d];
+      }
+    }
+    plc.Holes.insert(plc.Holes.end(), c, c + 3);
+  }
+  plc.PointSizes = nodeSize;
+
+  // ---- S must lie inside the cavity: no S triangle may cross its boundary.
+  {
+    std::vector<Triangle> shell;
+    const std::size_t nShell = plc.TriangleMarkers.size() - sTris.size() / 3;
+    for (std::size_t t = 0; t < nShell; ++t)
+    {
+      const std::int64_t* f = &plc.Triangles[3 * t];
+      shell.emplace_back(P(&plc.Points[3 * f[0]]), P(&plc.Points[3 * f[1]]), P(&plc.Points[3 * f[2]]));
+    }
+    Tree shellTree(shell.begin(), shell.end());
+    for (std::size_t t = 0; t < sTris.size() / 3; ++t)
+    {
+      const Triangle tri(P(&sPoints[3 * sTris[3 * t]]), P(&sPoints[3 * sTris[3 * t + 1]]),
+        P(&sPoints[3 * sTris[3 * t + 2]]));
+      if (shellTree.do_intersect(tri))
+      {
+        error = "the feature surface crosses the boundary of the cavity (the kept mesh is too "
+                "close to it); raise RemovalFactor.";
+        return false;
+      }
+    }
+  }
+
+  // ---- Refill.
+  TetGenResult refill;
+  if (!TetGenMeshComplex(plc, options.Quality, refill, error))
+  {
+    error = "refilling the cavity: " + error;
+    return false;
+  }
+  const std::size_t nRefillPoints = refill.Mesh.NumberOfPoints();
+
+  // ---- Output: V's points that are still used, then S's and TetGen's new points.
+  std::vector<std::int64_t> outIndex(nV, -1);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    if (cavity[t])
+    {
+      continue;
+    }
+    for (int k = 0; k < 4; ++k)
+    {
+      outIndex[V.Tetrahedra[4 * t + k]] = 0;
+    }
+  }
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    if (plcIndex[v] >= 0)
+    {
+      outIndex[v] = 0;
+    }
+  }
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    if (outIndex[v] == 0)
+    {
+      outIndex[v] = static_cast<std::int64_t>(out.SourcePoint.size());
+      out.SourcePoint.push_back(static_cast<std::int64_t>(v));
+      out.Mesh.Points.insert(out.Mesh.Points.end(), &V.Points[3 * v], &V.Points[3 * v] + 3);
+    }
+  }
+  std::vector<std::int64_t> refillIndex(nRefillPoints, -1);
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    if (plcIndex[v] >= 0)
+    {
+      refillIndex[plcIndex[v]] = outIndex[v];
+    }
+  }
+  for (std::size_t k = static_cast<std::size_t>(nBoundaryNodes); k < nRefillPoints; ++k)
+  {
+    refillIndex[k] = static_cast<std::int64_t>(out.SourcePoint.size());
+    out.SourcePoint.push_back(-1);
+    out.Mesh.Points.insert(out.Mesh.Points.end(), &refill.Mesh.Points[3 * k], &refill.Mesh.Points[3 * k] + 3);
+  }
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    if (cavity[t])
+    {
+      continue;
+    }
+    for (int k = 0; k < 4; ++k)
+    {
+      out.Mesh.Tetrahedra.push_back(outIndex[V.Tetrahedra[4 * t + k]]);
+    }
+    out.SourceCell.push_back(static_cast<std::int64_t>(t));
+  }
+  for (std::size_t t = 0; t < refill.Mesh.NumberOfTetrahedra(); ++t)
+  {
+    for (int k = 0; k < 4; ++k)
+    {
+      out.Mesh.Tetrahedra.push_back(refillIndex[refill.Mesh.Tetrahedra[4 * t + k]]);
+    }
+    out.SourceCell.push_back(-1);
+  }
+  for (std::size_t f = 0; f < refill.FaceMarkers.size(); ++f)
+  {
+    if (refill.FaceMarkers[f] == 2)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        out.Surface.push_back(refillIndex[refill.Faces[3 * f + k]]);
+      }
+    }
+  }
+  return true;
+}
+}

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file ARCavity.h
+ * @brief LocalCavity remeshing (paper section 2.4): remove the nodes of a
+ *        tetrahedral mesh V near an embedded surface S and refill the void
+ *        with TetGen, S embedded as internal faces.
+ *
+ * A node V_j is removed when it lies within RemovalFactor * max(l_si, l_vj)
+ * of a node S_i (l = the longest edge at the node) and is visible from S_i:
+ * the segment S_i V_j crosses no boundary face of V (CGAL AABB tree). The
+ * tetrahedra touching removed nodes form the cavity. Its boundary, the faces
+ * it shares with kept tetrahedra and its faces on V's boundary, is kept
+ * exactly (TetGen -Y): the kept cells, the domain boundary and therefore the
+ * boundary patches do not change. Nodes on V's boundary stay (their faces
+ * are kept); only interior nodes vanish.
+ *
+ * Where S reaches V's boundary it is trimmed back, not cut at the boundary:
+ * S triangles with a node closer than BoundaryMargin * l_si to V's boundary
+ * are dropped (and S outside V is dropped). Cutting S exactly at the boundary
+ * would retriangulate boundary faces and move patch edges; the trim keeps
+ * every boundary face of V bit for bit, at the price of a gap of about one S
+ * edge between S and the boundary.
+ *
+ * The refill: TetGen on the cavity boundary plus S (internal facets, marker
+ * 2) with quality switches and a size field: l_v at the cavity's boundary
+ * nodes, S's edge length at S's nodes. A hole point in each kept region next
+ * to the cavity stops TetGen from filling kept space.
+ */
+#ifndef ARCavity_h
+#define ARCavity_h
+
+#include "ARTetGen.h"
+#include "ARTetMesh.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ar
+{
+struct CavityOptions
+{
+  double RemovalFactor = 3.0;   ///< radius of removal in max(l_si, l_vj)
+  bool VisibilityTest = true;   ///< a boundary face between S_i and V_j keeps V_j
+  double BoundaryMargin = 1.0;  ///< S trimmed this many l_si away from V's boundary
+  TetGenOptions Quality{ 1.414, 12.0, 0.0, true, 0 };
+};
+
+struct CavityRemesh
+{
+  TetMesh Mesh;                          ///< kept points (input order) then new ones; kept tets then new ones
+  std::vector<std::int64_t> SourcePoint; ///< per output point: input point id, or -1 (new)
+  std::vector<std::int64_t> SourceCell;  ///< per output tet: input tet id (kept), or -1 (new)
+  std::vector<std::int64_t> Surface;     ///< the embedded S triangles, output point ids
+  std::size_t RemovedNodes = 0;          ///< interior nodes of V removed
+  std::size_t RemovedCells = 0;          ///< tetrahedra of V in the cavity
+  std::size_t SurfaceTrianglesUsed = 0;  ///< S triangles left after the trim
+};
+
+/**
+ * Remeshes the cavity of V around S. V: positively oriented tetrahedra (an
+ * inverted or flat one is refused). S: a triangulated surface, ideally with
+ * nearly uniform edges (the caller remeshes it at the user's size).
+ *
+ * Returns false with `error` naming the problem for: an empty V or S, an
+ * inverted cell, non-finite coordinates, S entirely outside V (or nothing of
+ * S left after the trim), S crossing itself, S too close to the kept mesh
+ * (it crosses the cavity's boundary: raise RemovalFactor), or a TetGen failure.
+ */
+bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
+  const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,
+  CavityRemesh& out, std::string& error);
+}
+
+#endif

@@ -1,0 +1,305 @@
+// Unit tests of ar::RemeshLocalCavity on a structured tetrahedral cube and
+// planar feature surfaces: validity (positive volumes, conforming faces, the
+// boundary unchanged, volume conserved), the surface embedded as faces, the
+// kept cells untouched, the removal rule with and without visibility, and
+// every refused input.
+#include "ARCavity.h"
+#include "ARTetGeometry.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <set>
+
+namespace
+{
+/// Kuhn (6-tetrahedra) subdivision of [0,1]^3 in n^3 cubes, keeping the cubes
+/// for which keep(i, j, k) holds.
+ar::TetMesh KuhnCube(int n, const std::function<bool(int, int, int)>& keep = nullptr)
+{
+  ar::TetMesh m;
+  auto id = [n](int i, int j, int k) { return static_cast<std::int64_t>(i + (n + 1) * (j + (n + 1) * k)); };
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i)
+        m.Points.insert(m.Points.end(), { double(i) / n, double(j) / n, double(k) / n });
+  static const int perms[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        if (keep && !keep(i, j, k))
+          continue;
+        for (const auto& p : perms)
+        {
+          int c[3] = { i, j, k };
+          std::int64_t v[4];
+          v[0] = id(c[0], c[1], c[2]);
+          for (int s = 0; s < 3; ++s)
+          {
+            ++c[p[s]];
+            v[s + 1] = id(c[0], c[1], c[2]);
+          }
+          const double* x[4] = { &m.Points[3 * v[0]], &m.Points[3 * v[1]], &m.Points[3 * v[2]], &m.Points[3 * v[3]] };
+          if (ar::TetSignedVolume(x[0], x[1], x[2], x[3]) < 0)
+            std::swap(v[1], v[2]);
+          m.Tetrahedra.insert(m.Tetrahedra.end(), v, v + 4);
+        }
+      }
+  return m;
+}
+
+struct Surface
+{
+  std::vector<double> Points;
+  std::vector<std::int64_t> Triangles;
+};
+
+/// A triangulated grid over (u, v) in [u0,u1] x [v0,v1], mapped by `map`.
+Surface Grid(int nu, int nv, double u0, double u1, double v0, double v1,
+  const std::function<std::array<double, 3>(double, double)>& map)
+{
+  Surface s;
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i <= nu; ++i)
+    {
+      const auto x = map(u0 + (u1 - u0) * i / nu, v0 + (v1 - v0) * j / nv);
+      s.Points.insert(s.Points.end(), x.begin(), x.end());
+    }
+  auto id = [nu](int i, int j) { return static_cast<std::int64_t>(i + (nu + 1) * j); };
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i)
+      s.Triangles.insert(s.Triangles.end(), { id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1) });
+  return s;
+}
+
+using Key = std::array<long long, 9>;
+
+/// A face as its sorted, rounded corner coordinates (independent of numbering).
+Key FaceKey(const ar::TetMesh& m, std::int64_t a, std::int64_t b, std::int64_t c)
+{
+  std::array<std::array<long long, 3>, 3> corners;
+  const std::int64_t ids[3] = { a, b, c };
+  for (int k = 0; k < 3; ++k)
+    for (int d = 0; d < 3; ++d)
+      corners[k][d] = std::llround(m.Points[3 * ids[k] + d] * 1e9);
+  std::sort(corners.begin(), corners.end());
+  Key key;
+  for (int k = 0; k < 3; ++k)
+    for (int d = 0; d < 3; ++d)
+      key[3 * k + d] = corners[k][d];
+  return key;
+}
+
+/// Every face and how many tetrahedra use it.
+std::map<Key, int> Faces(const ar::TetMesh& m)
+{
+  static const int fv[4][3] = { { 1, 2, 3 }, { 0, 3, 2 }, { 0, 1, 3 }, { 0, 2, 1 } };
+  std::map<Key, int> faces;
+  for (std::size_t t = 0; t < m.NumberOfTetrahedra(); ++t)
+    for (const auto& f : fv)
+      ++faces[FaceKey(m, m.Tetrahedra[4 * t + f[0]], m.Tetrahedra[4 * t + f[1]], m.Tetrahedra[4 * t + f[2]])];
+  return faces;
+}
+
+std::set<Key> BoundaryFaces(const ar::TetMesh& m)
+{
+  std::set<Key> b;
+  for (const auto& f : Faces(m))
+    if (f.second == 1)
+      b.insert(f.first);
+  return b;
+}
+
+/// The checks every output must pass.
+void ExpectValid(const ar::TetMesh& in, const ar::CavityRemesh& r)
+{
+  const ar::TetMeshStatistics before = ar::ComputeStatistics(in);
+  const ar::TetMeshStatistics after = ar::ComputeStatistics(r.Mesh);
+  EXPECT_EQ(after.NumberOfNonPositive, 0u) << "every cell has a positive volume";
+  EXPECT_NEAR(after.TotalVolume, before.TotalVolume, 1e-9 * before.TotalVolume) << "volume conserved";
+  const auto faces = Faces(r.Mesh);
+  std::size_t overused = 0;
+  for (const auto& f : faces)
+    overused += f.second > 2 ? 1 : 0;
+  EXPECT_EQ(overused, 0u) << "no face is shared by more than two cells";
+  EXPECT_EQ(BoundaryFaces(r.Mesh), BoundaryFaces(in)) << "the boundary is the input's, face for face";
+  // The kept cells are the input's, corner for corner.
+  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
+  {
+    if (r.SourceCell[t] < 0)
+      continue;
+    for (int k = 0; k < 4; ++k)
+    {
+      const std::int64_t a = r.Mesh.Tetrahedra[4 * t + k];
+      const std::int64_t b = in.Tetrahedra[4 * r.SourceCell[t] + k];
+      for (int d = 0; d < 3; ++d)
+        ASSERT_EQ(r.Mesh.Points[3 * a + d], in.Points[3 * b + d]);
+    }
+  }
+  // The surface's triangles are faces of the mesh, each between two cells.
+  ASSERT_FALSE(r.Surface.empty());
+  for (std::size_t f = 0; f < r.Surface.size() / 3; ++f)
+  {
+    const auto it = faces.find(FaceKey(r.Mesh, r.Surface[3 * f], r.Surface[3 * f + 1], r.Surface[3 * f + 2]));
+    ASSERT_TRUE(it != faces.end()) << "surface triangle " << f << " is a face of the mesh";
+    EXPECT_EQ(it->second, 2);
+  }
+}
+
+double MinNewDihedral(const ar::CavityRemesh& r)
+{
+  double worst = 180.0;
+  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
+  {
+    if (r.SourceCell[t] >= 0)
+      continue;
+    const std::int64_t* v = &r.Mesh.Tetrahedra[4 * t];
+    double a[6];
+    ar::TetDihedralAngles(&r.Mesh.Points[3 * v[0]], &r.Mesh.Points[3 * v[1]], &r.Mesh.Points[3 * v[2]],
+      &r.Mesh.Points[3 * v[3]], a);
+    worst = std::min(worst, *std::min_element(a, a + 6));
+  }
+  return worst;
+}
+
+ar::CavityRemesh Remesh(const ar::TetMesh& v, const Surface& s, const ar::CavityOptions& o = {})
+{
+  ar::CavityRemesh r;
+  std::string error;
+  EXPECT_TRUE(ar::RemeshLocalCavity(v, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, r, error))
+    << error;
+  return r;
+}
+
+std::string Refusal(const ar::TetMesh& v, const Surface& s, const ar::CavityOptions& o = {})
+{
+  ar::CavityRemesh r;
+  std::string error;
+  EXPECT_FALSE(ar::RemeshLocalCavity(v, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, r, error));
+  return error;
+}
+
+// A tilted plane patch inside the unit cube, edge length about 0.05.
+Surface TiltedPatch()
+{
+  return Grid(10, 10, 0.25, 0.75, 0.25, 0.75, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.5 + 0.2 * (u - 0.5) - 0.1 * (v - 0.5) };
+  });
+}
+}
+
+TEST(Cavity, InteriorPlaneIsEmbeddedInAValidMesh)
+{
+  const ar::TetMesh cube = KuhnCube(12);
+  const Surface s = TiltedPatch();
+  const ar::CavityRemesh r = Remesh(cube, s);
+  ExpectValid(cube, r);
+  EXPECT_GT(r.RemovedNodes, 0u);
+  EXPECT_EQ(r.SurfaceTrianglesUsed, s.Triangles.size() / 3);
+  EXPECT_EQ(r.Surface.size(), s.Triangles.size()) << "TetGen -Y keeps S's triangles as they are";
+  EXPECT_GE(MinNewDihedral(r), 10.0);
+  // The removal rule: no interior input node within 3 max(l_s, l_v) of S's nodes survives.
+  std::set<std::int64_t> kept(r.SourcePoint.begin(), r.SourcePoint.end());
+  const double lv = std::sqrt(3.0) / 12.0, ls = std::hypot(0.05, 0.05 * std::hypot(0.2, 0.1)) ;
+  for (std::size_t j = 0; j < cube.NumberOfPoints(); ++j)
+  {
+    const double* x = &cube.Points[3 * j];
+    const bool interior = x[0] > 0 && x[0] < 1 && x[1] > 0 && x[1] < 1 && x[2] > 0 && x[2] < 1;
+    double dmin = 1e9;
+    for (std::size_t i = 0; i < s.Points.size() / 3; ++i)
+      dmin = std::min(dmin, std::hypot(x[0] - s.Points[3 * i], std::hypot(x[1] - s.Points[3 * i + 1], x[2] - s.Points[3 * i + 2])));
+    if (interior && dmin < 0.99 * 3.0 * std::max(lv, ls))
+      EXPECT_EQ(kept.count(static_cast<std::int64_t>(j)), 0u) << "node " << j << " at " << dmin;
+  }
+}
+
+TEST(Cavity, SurfaceReachingTheBoundaryIsTrimmedAndTheBoundaryKept)
+{
+  const ar::TetMesh cube = KuhnCube(10);
+  // A plane across the whole cube (and beyond it).
+  const Surface s = Grid(14, 14, -0.2, 1.2, -0.2, 1.2, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.45 + 0.1 * u };
+  });
+  const ar::CavityRemesh r = Remesh(cube, s);
+  ExpectValid(cube, r);
+  EXPECT_LT(r.SurfaceTrianglesUsed, s.Triangles.size() / 3);
+  // The trimmed surface stays a margin (one S edge, 0.1) away from the boundary.
+  for (std::size_t f = 0; f < r.Surface.size(); ++f)
+  {
+    const double* x = &r.Mesh.Points[3 * r.Surface[f]];
+    const double d = std::min({ x[0], 1 - x[0], x[1], 1 - x[1], x[2], 1 - x[2] });
+    EXPECT_GE(d, 0.1 - 1e-9);
+  }
+}
+
+TEST(Cavity, VisibilityKeepsNodesBehindAWall)
+{
+  // A U-shaped domain: the cube without a slot x in [0.4, 0.6), z >= 0.2.
+  // S sits at x = 0.2, left of the slot; the nodes at x = 0.7, right of the
+  // slot, lie within the removal radius (0.5 < 3 * 0.173) but behind its walls.
+  const int n = 10;
+  const ar::TetMesh u = KuhnCube(n, [](int i, int, int k) { return !(i >= 4 && i < 6 && k >= 2); });
+  const Surface s = Grid(6, 6, 0.3, 0.85, 0.3, 0.7, [](double w, double v) {
+    return std::array<double, 3>{ 0.2, v, w };
+  });
+  auto behind = [&](const ar::CavityRemesh& r) {
+    std::set<std::int64_t> kept(r.SourcePoint.begin(), r.SourcePoint.end());
+    std::size_t gone = 0;
+    for (std::size_t j = 0; j < u.NumberOfPoints(); ++j)
+    {
+      const double* x = &u.Points[3 * j];
+      if (x[0] > 0.65 && x[0] < 0.75 && x[2] > 0.35 && x[2] < 0.85 && x[1] > 0.05 && x[1] < 0.95)
+        gone += kept.count(static_cast<std::int64_t>(j)) ? 0 : 1;
+    }
+    return gone;
+  };
+  ar::CavityOptions blind;
+  blind.VisibilityTest = false;
+  const ar::CavityRemesh seen = Remesh(u, s);
+  ExpectValid(u, seen);
+  EXPECT_EQ(behind(seen), 0u) << "no node behind the slot is removed";
+  const ar::CavityRemesh all = Remesh(u, s, blind);
+  EXPECT_GT(behind(all), 0u) << "without the visibility test they are";
+}
+
+TEST(Cavity, RefusesBadInput)
+{
+  const ar::TetMesh cube = KuhnCube(6);
+  const Surface s = TiltedPatch();
+  EXPECT_NE(Refusal(ar::TetMesh(), s).find("empty"), std::string::npos);
+  EXPECT_NE(Refusal(cube, Surface()).find("empty"), std::string::npos);
+  ar::TetMesh inverted = cube;
+  std::swap(inverted.Tetrahedra[1], inverted.Tetrahedra[2]);
+  EXPECT_NE(Refusal(inverted, s).find("inverted"), std::string::npos);
+  ar::TetMesh nan = cube;
+  nan.Points[4] = std::nan("");
+  EXPECT_NE(Refusal(nan, s).find("non-finite"), std::string::npos);
+  Surface outside = s;
+  for (std::size_t i = 0; i < outside.Points.size(); i += 3)
+    outside.Points[i] += 3.0;
+  EXPECT_NE(Refusal(cube, outside).find("outside"), std::string::npos);
+  // A removal radius too small to clear the kept mesh away from S.
+  ar::CavityOptions tight;
+  tight.RemovalFactor = 0.3;
+  const std::string close = Refusal(KuhnCube(12), s, tight);
+  EXPECT_TRUE(close.find("crosses the boundary of the cavity") != std::string::npos ||
+    close.find("nothing to remesh") != std::string::npos) << close;
+  // Two patches crossing each other.
+  Surface crossing = s;
+  const Surface other = Grid(10, 10, 0.25, 0.75, 0.25, 0.75, [](double u, double v) {
+    return std::array<double, 3>{ u, 0.5 + 0.1 * (v - 0.5), v };
+  });
+  const auto offset = static_cast<std::int64_t>(crossing.Points.size() / 3);
+  crossing.Points.insert(crossing.Points.end(), other.Points.begin(), other.Points.end());
+  for (std::int64_t id : other.Triangles)
+    crossing.Triangles.push_back(id + offset);
+  const std::string e = Refusal(cube, crossing);
+  EXPECT_TRUE(e.find("intersects itself") != std::string::npos || e.find("TetGen") != std::string::npos) << e;
+}

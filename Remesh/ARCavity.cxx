@@ -347,8 +347,23 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
   std::vector<char> removed(nV, 0);
   std::vector<IndexedPoint> found;
   const double rf = options.RemovalFactor;
+  if (!options.LockedNodes.empty() && options.LockedNodes.size() != nV)
+  {
+    error = "LockedNodes has " + std::to_string(options.LockedNodes.size()) + " entries for " +
+      std::to_string(nV) + " nodes.";
+    return false;
+  }
   for (std::size_t j = 0; j < nV; ++j)
   {
+    if (!options.LockedNodes.empty() && options.LockedNodes[j])
+    {
+      continue;
+    }
+    if (options.FullDomain)
+    {
+      removed[j] = 1;
+      continue;
+    }
     const double* xj = &V.Points[3 * j];
     const Point pj = P(xj);
     found.clear();

@@ -44,6 +44,12 @@ struct CavityOptions
   bool VisibilityTest = true;   ///< a boundary face between S_i and V_j keeps V_j
   double BoundaryMargin = 1.0;  ///< S trimmed this many l_si away from V's boundary
   TetGenOptions Quality{ 1.414, 12.0, 0.0, true, 0 };
+  /// Remove every node: the whole domain is remeshed with S embedded
+  /// (FullDomain mode); the domain boundary is still kept exactly.
+  bool FullDomain = false;
+  /// Per node of V, nonzero where the node must stay (e.g. the nodes of
+  /// non-tetrahedral cells of a hybrid mesh, which are kept uncut). Empty: none.
+  std::vector<std::uint8_t> LockedNodes;
 };
 
 struct CavityRemesh

@@ -4,6 +4,7 @@
 // kept cells untouched, the removal rule with and without visibility, and
 // every refused input.
 #include "ARCavity.h"
+#include "ARSurfaceRemesh.h"
 #include "ARTetGeometry.h"
 
 #include <gtest/gtest.h>
@@ -302,4 +303,83 @@ TEST(Cavity, RefusesBadInput)
     crossing.Triangles.push_back(id + offset);
   const std::string e = Refusal(cube, crossing);
   EXPECT_TRUE(e.find("intersects itself") != std::string::npos || e.find("TetGen") != std::string::npos) << e;
+}
+
+TEST(Cavity, FullDomainRemeshesEverythingAndKeepsTheBoundary)
+{
+  const ar::TetMesh cube = KuhnCube(8);
+  ar::CavityOptions full;
+  full.FullDomain = true;
+  const ar::CavityRemesh r = Remesh(cube, TiltedPatch(), full);
+  ExpectValid(cube, r);
+  EXPECT_EQ(std::count(r.SourceCell.begin(), r.SourceCell.end(), -1), static_cast<long>(r.SourceCell.size()));
+  EXPECT_EQ(r.RemovedCells, cube.NumberOfTetrahedra());
+}
+
+TEST(Cavity, LockedNodesStay)
+{
+  const ar::TetMesh cube = KuhnCube(10);
+  ar::CavityOptions o;
+  o.LockedNodes.assign(cube.NumberOfPoints(), 0);
+  std::size_t locked = 0;
+  for (std::size_t j = 0; j < cube.NumberOfPoints(); ++j)
+    if (cube.Points[3 * j] < 0.45) // the left half of the cube is locked
+      o.LockedNodes[j] = 1, ++locked;
+  const Surface s = Grid(10, 10, 0.25, 0.75, 0.25, 0.75, [](double u, double v) {
+    return std::array<double, 3>{ 0.62, u, v };
+  });
+  const ar::CavityRemesh r = Remesh(cube, s, o);
+  ExpectValid(cube, r);
+  std::set<std::int64_t> kept(r.SourcePoint.begin(), r.SourcePoint.end());
+  for (std::size_t j = 0; j < cube.NumberOfPoints(); ++j)
+    if (o.LockedNodes[j])
+      EXPECT_EQ(kept.count(static_cast<std::int64_t>(j)), 1u) << "locked node " << j;
+}
+
+TEST(SurfaceRemesh, IsotropicAtTheTargetLengthKeepingTheOutline)
+{
+  // A coarse, badly shaped triangulation of the unit square (two long thin triangles per strip).
+  const Surface coarse = Grid(2, 8, 0.0, 1.0, 0.0, 1.0, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.3 * u };
+  });
+  std::vector<double> pts;
+  std::vector<std::int64_t> tris;
+  std::string error;
+  ASSERT_TRUE(ar::RemeshSurfaceIsotropic(coarse.Points, coarse.Triangles, 0.05, pts, tris, error)) << error;
+  double area = 0.0, sum = 0.0, worst = 180.0;
+  std::size_t edges = 0;
+  for (std::size_t t = 0; t < tris.size() / 3; ++t)
+  {
+    const double* p[3] = { &pts[3 * tris[3 * t]], &pts[3 * tris[3 * t + 1]], &pts[3 * tris[3 * t + 2]] };
+    double l[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const double* a = p[k];
+      const double* b = p[(k + 1) % 3];
+      l[k] = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+      sum += l[k];
+      ++edges;
+    }
+    const double s2 = 0.5 * (l[0] + l[1] + l[2]);
+    area += std::sqrt(std::max(0.0, s2 * (s2 - l[0]) * (s2 - l[1]) * (s2 - l[2])));
+    bool border = false;
+    for (int k = 0; k < 3; ++k)
+      border = border || p[k][0] < 1e-9 || p[k][0] > 1 - 1e-9 || p[k][1] < 1e-9 || p[k][1] > 1 - 1e-9;
+    for (int k = 0; k < 3 && !border; ++k)
+    {
+      const double c = (l[(k + 1) % 3] * l[(k + 1) % 3] + l[(k + 2) % 3] * l[(k + 2) % 3] - l[k] * l[k]) /
+        (2 * l[(k + 1) % 3] * l[(k + 2) % 3]);
+      worst = std::min(worst, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
+    }
+  }
+  EXPECT_NEAR(area, std::hypot(1.0, 0.3), 1e-9) << "the plane's area is kept (outline fixed)";
+  EXPECT_NEAR(sum / edges, 0.05, 0.01) << "mean edge length";
+  EXPECT_GT(worst, 25.0) << "no sliver triangles away from the (protected) outline";
+  // Refused: a non-positive length, a NaN.
+  EXPECT_FALSE(ar::RemeshSurfaceIsotropic(coarse.Points, coarse.Triangles, 0.0, pts, tris, error));
+  EXPECT_NE(error.find("positive"), std::string::npos) << error;
+  Surface nan = coarse;
+  nan.Points[4] = std::nan("");
+  EXPECT_FALSE(ar::RemeshSurfaceIsotropic(nan.Points, nan.Triangles, 0.05, pts, tris, error));
+  EXPECT_NE(error.find("non-finite"), std::string::npos) << error;
 }

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "ARSurfaceRemesh.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <array>
+#include <cmath>
+#include <map>
+
+namespace ar
+{
+namespace
+{
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+}
+
+bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
+  double edgeLength, std::vector<double>& outPoints, std::vector<std::int64_t>& outTriangles,
+  std::string& error)
+{
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  outPoints.clear();
+  outTriangles.clear();
+  if (!(edgeLength > 0.0) || !std::isfinite(edgeLength))
+  {
+    error = "the target edge length must be a positive number.";
+    return false;
+  }
+  const std::size_t n = points.size() / 3;
+  std::vector<Point> pts;
+  pts.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double* x = &points[3 * i];
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+    {
+      error = "the surface has a non-finite coordinate.";
+      return false;
+    }
+    pts.emplace_back(x[0], x[1], x[2]);
+  }
+  std::vector<std::array<std::size_t, 3>> faces(triangles.size() / 3);
+  for (std::size_t t = 0; t < faces.size(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::int64_t id = triangles[3 * t + k];
+      if (id < 0 || static_cast<std::size_t>(id) >= n)
+      {
+        error = "a triangle of the surface refers to a point that does not exist.";
+        return false;
+      }
+      faces[t][k] = static_cast<std::size_t>(id);
+    }
+  }
+  if (faces.empty())
+  {
+    error = "the surface has no triangles.";
+    return false;
+  }
+  PMP::orient_polygon_soup(pts, faces); // may duplicate points at non-manifold vertices
+  if (!PMP::is_polygon_soup_a_polygon_mesh(faces))
+  {
+    error = "the surface is not an orientable manifold (non-manifold edges); remesh it by hand or "
+            "remove the offending triangles.";
+    return false;
+  }
+  Mesh mesh;
+  PMP::polygon_soup_to_polygon_mesh(pts, faces, mesh);
+  std::vector<Mesh::Edge_index> border;
+  for (Mesh::Halfedge_index h : mesh.halfedges())
+  {
+    if (mesh.is_border(h))
+    {
+      border.push_back(mesh.edge(h));
+    }
+  }
+  PMP::split_long_edges(border, edgeLength, mesh);
+  PMP::isotropic_remeshing(CGAL::faces(mesh), edgeLength, mesh,
+    CGAL::parameters::number_of_iterations(8).protect_constraints(true));
+  mesh.collect_garbage();
+  std::map<Mesh::Vertex_index, std::int64_t> index;
+  for (Mesh::Vertex_index v : mesh.vertices())
+  {
+    index[v] = static_cast<std::int64_t>(outPoints.size() / 3);
+    const Point& p = mesh.point(v);
+    outPoints.insert(outPoints.end(), { p.x(), p.y(), p.z() });
+  }
+  for (Mesh::Face_index f : mesh.faces())
+  {
+    for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+    {
+      outTriangles.push_back(index[v]);
+    }
+  }
+  return true;
+}
+}

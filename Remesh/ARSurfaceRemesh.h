@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file ARSurfaceRemesh.h
+ * @brief Isotropic remeshing of a triangulated surface at a target edge length (CGAL).
+ */
+#ifndef ARSurfaceRemesh_h
+#define ARSurfaceRemesh_h
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ar
+{
+/**
+ * Remeshes a triangulated surface (open or closed, one or several pieces)
+ * to nearly equilateral triangles of edge length `edgeLength` with CGAL's
+ * isotropic remeshing (8 iterations). Border edges are first split to the
+ * target length and then kept in place, so the outline does not shrink.
+ *
+ * The input must be an orientable manifold triangle soup (CGAL orients it);
+ * returns false with `error` naming the problem otherwise (non-manifold
+ * edges, a non-finite coordinate, a non-positive edge length).
+ */
+bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
+  double edgeLength, std::vector<double>& outPoints, std::vector<std::int64_t>& outTriangles,
+  std::string& error);
+}
+
+#endif

@@ -406,10 +406,21 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
     error = "no node of the volume mesh lies near the feature surface: nothing to remesh.";
     return false;
   }
-  // Nodes of the cavity's boundary faces stay; the other nodes of cavity cells go.
-  std::vector<std::int64_t> plcIndex(nV, -1);
+  // Nodes of the cavity's boundary faces stay; the other nodes of cavity cells
+  // go. TetGen cannot place a point on a kept face (-Y), so where the
+  // cavity's boundary has a pocket of nearly coplanar kept nodes it must make
+  // a sliver from them: the kept cells at such slivers join the cavity and
+  // the refill is repeated (at most twice).
+  std::vector<std::int64_t> plcIndex;
   PiecewiseLinearComplex plc;
   std::vector<double> nodeSize;
+  std::int64_t nBoundaryNodes = 0;
+  TetGenResult refill;
+  for (int attempt = 0;; ++attempt)
+  {
+  plcIndex.assign(nV, -1);
+  plc = PiecewiseLinearComplex();
+  nodeSize.clear();
   UnionFind kept(nT);
   std::vector<char> touchesCavity(nT, 0);
   for (std::size_t t = 0; t < nT; ++t)
@@ -447,11 +458,7 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
       plc.TriangleMarkers.push_back(nb >= 0 ? 1 : 3); // 1 kept face, 3 domain boundary
     }
   }
-  const auto nBoundaryNodes = static_cast<std::int64_t>(nodeSize.size());
-  for (std::size_t v = 0; v < nV; ++v)
-  {
-    out.RemovedNodes += (removed[v] && plcIndex[v] < 0) ? 1 : 0;
-  }
+  nBoundaryNodes = static_cast<std::int64_t>(nodeSize.size());
   // S: internal facets, marker 2.
   plc.Points.insert(plc.Points.end(), sPoints.begin(), sPoints.end());
   nodeSize.insert(nodeSize.end(), sSize.begin(), sSize.end());
@@ -510,12 +517,85 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
   }
 
   // ---- Refill.
-  TetGenResult refill;
   if (!TetGenMeshComplex(plc, options.Quality, refill, error))
   {
     error = "refilling the cavity: " + error;
     return false;
   }
+  // Slivers made of kept nodes only: grow the cavity there.
+  if (attempt == 2)
+  {
+    break;
+  }
+  const double limit = std::max(0.0, options.Quality.MinDihedralAngle - 2.0);
+  std::vector<std::int64_t> grow;
+  for (std::size_t t = 0; t < refill.Mesh.NumberOfTetrahedra(); ++t)
+  {
+    const std::int64_t* v = &refill.Mesh.Tetrahedra[4 * t];
+    int boundaryNodes = 0;
+    for (int k = 0; k < 4; ++k)
+    {
+      boundaryNodes += v[k] < nBoundaryNodes ? 1 : 0;
+    }
+    if (boundaryNodes < 3)
+    {
+      continue;
+    }
+    double angles[6];
+    TetDihedralAngles(&refill.Mesh.Points[3 * v[0]], &refill.Mesh.Points[3 * v[1]],
+      &refill.Mesh.Points[3 * v[2]], &refill.Mesh.Points[3 * v[3]], angles);
+    if (*std::min_element(angles, angles + 6) < limit)
+    {
+      for (int k = 0; k < 4; ++k)
+      {
+        if (v[k] < nBoundaryNodes)
+        {
+          grow.push_back(v[k]);
+        }
+      }
+    }
+  }
+  if (grow.empty())
+  {
+    break;
+  }
+  std::vector<char> atSliver(nV, 0);
+  std::vector<std::int64_t> nodeOfPlc(nBoundaryNodes, -1);
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    if (plcIndex[v] >= 0)
+    {
+      nodeOfPlc[plcIndex[v]] = static_cast<std::int64_t>(v);
+    }
+  }
+  for (std::int64_t k : grow)
+  {
+    atSliver[nodeOfPlc[k]] = 1;
+  }
+  std::size_t added = 0;
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    if (cavity[t])
+    {
+      continue;
+    }
+    for (int k = 0; k < 4; ++k)
+    {
+      const std::int64_t v = V.Tetrahedra[4 * t + k];
+      if (atSliver[v] && (options.LockedNodes.empty() || !options.LockedNodes[v]))
+      {
+        cavity[t] = 1;
+        ++added;
+        break;
+      }
+    }
+  }
+  if (added == 0)
+  {
+    break;
+  }
+  }
+  out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
   const std::size_t nRefillPoints = refill.Mesh.NumberOfPoints();
 
   // ---- Output: V's points that are still used, then S's and TetGen's new points.
@@ -546,6 +626,15 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
       out.SourcePoint.push_back(static_cast<std::int64_t>(v));
       out.Mesh.Points.insert(out.Mesh.Points.end(), &V.Points[3 * v], &V.Points[3 * v] + 3);
     }
+  }
+  std::vector<char> used(nV, 0);
+  for (std::int64_t v : V.Tetrahedra)
+  {
+    used[v] = 1;
+  }
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    out.RemovedNodes += (used[v] && outIndex[v] < 0) ? 1 : 0;
   }
   std::vector<std::int64_t> refillIndex(nRefillPoints, -1);
   for (std::size_t v = 0; v < nV; ++v)

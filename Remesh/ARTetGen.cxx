@@ -145,6 +145,10 @@ std::string TetGenSwitches(const TetGenOptions& options)
   {
     s << "O" << options.OptimizationLevel << "/7";
   }
+  if (options.OptimizeMaxDihedral > 0.0)
+  {
+    s << "o/" << options.OptimizeMaxDihedral;
+  }
   s << "Q";
   return s.str();
 }

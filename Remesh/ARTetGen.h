@@ -25,6 +25,9 @@ struct TetGenOptions
   /// Mesh optimization level of TetGen's -O switch (flips and smoothing that
   /// remove slivers; 0 = TetGen's default, 2).
   int OptimizationLevel = 0;
+  /// Largest dihedral angle (degrees) TetGen's optimization tries to remove
+  /// (-o/; slivers have one near 180); 0 = TetGen's default, 165.
+  double OptimizeMaxDihedral = 0.0;
 };
 
 /**

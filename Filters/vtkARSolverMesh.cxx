@@ -1,0 +1,766 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkARSolverMesh.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCellData.h"
+#include "vtkCellTypes.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdList.h"
+#include "vtkInformation.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
+#include "vtkPartitionedDataSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStaticPointLocator.h"
+#include "vtkStringArray.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+
+#include <unistd.h> // getpid
+
+namespace
+{
+// ---- VTK's face tables of the linear 3-D cells (outward for a valid cell).
+const int TetFaces[4][4] = { { 0, 1, 3, -1 }, { 1, 2, 3, -1 }, { 2, 0, 3, -1 }, { 0, 2, 1, -1 } };
+const int HexFaces[6][4] = { { 0, 4, 7, 3 }, { 1, 2, 6, 5 }, { 0, 1, 5, 4 }, { 3, 7, 6, 2 },
+  { 0, 3, 2, 1 }, { 4, 5, 6, 7 } };
+const int WedgeFaces[5][4] = { { 0, 1, 2, -1 }, { 3, 5, 4, -1 }, { 0, 3, 4, 1 }, { 1, 4, 5, 2 },
+  { 2, 5, 3, 0 } };
+const int PyramidFaces[5][4] = { { 0, 3, 2, 1 }, { 0, 1, 4, -1 }, { 1, 2, 4, -1 }, { 2, 3, 4, -1 },
+  { 3, 0, 4, -1 } };
+
+int NumberOfFaces(unsigned char type)
+{
+  switch (type)
+  {
+    case VTK_TETRA:
+      return 4;
+    case VTK_HEXAHEDRON:
+      return 6;
+    case VTK_WEDGE:
+    case VTK_PYRAMID:
+      return 5;
+    default:
+      return 0;
+  }
+}
+
+const int* Face(unsigned char type, int f)
+{
+  switch (type)
+  {
+    case VTK_TETRA:
+      return TetFaces[f];
+    case VTK_HEXAHEDRON:
+      return HexFaces[f];
+    case VTK_WEDGE:
+      return WedgeFaces[f];
+    default:
+      return PyramidFaces[f];
+  }
+}
+
+int FaceSize(const int* face)
+{
+  return face[3] < 0 ? 3 : 4;
+}
+
+using FaceKey = std::array<vtkIdType, 4>;
+
+FaceKey MakeKey(const vtkIdType* ids, int n)
+{
+  FaceKey k = { ids[0], ids[1], ids[2], n == 4 ? ids[3] : -1 };
+  std::sort(k.begin(), k.begin() + n);
+  return k;
+}
+
+struct FaceKeyHash
+{
+  size_t operator()(const FaceKey& k) const
+  {
+    size_t h = 1469598103934665603ull;
+    for (vtkIdType v : k)
+    {
+      h ^= static_cast<size_t>(v) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    }
+    return h;
+  }
+};
+
+struct FaceRecord
+{
+  int Count = 0;
+  vtkIdType Cell = -1; // the first cell using the face
+  int LocalFace = -1;
+  int Patch = -1;
+};
+
+bool ContainsNoCase(const std::string& text, const char* word)
+{
+  std::string t(text);
+  std::string w(word);
+  std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return std::tolower(c); });
+  return t.find(w) != std::string::npos;
+}
+
+struct Leaf
+{
+  vtkDataSet* Data;
+  std::string Name;
+};
+
+void CollectLeaves(vtkDataObject* object, const std::string& name, bool skip, std::vector<Leaf>& leaves)
+{
+  if (!object)
+  {
+    return;
+  }
+  if (auto* mb = vtkMultiBlockDataSet::SafeDownCast(object))
+  {
+    for (unsigned int i = 0; i < mb->GetNumberOfBlocks(); ++i)
+    {
+      std::string child;
+      if (mb->HasMetaData(i) && mb->GetMetaData(i)->Has(vtkCompositeDataSet::NAME()))
+      {
+        child = mb->GetMetaData(i)->Get(vtkCompositeDataSet::NAME());
+      }
+      const bool skipChild =
+        skip || ContainsNoCase(child, "lagrangian") || ContainsNoCase(child, "zones");
+      CollectLeaves(mb->GetBlock(i), child, skipChild, leaves);
+    }
+  }
+  else if (auto* pds = vtkPartitionedDataSet::SafeDownCast(object))
+  {
+    for (unsigned int i = 0; i < pds->GetNumberOfPartitions(); ++i)
+    {
+      CollectLeaves(pds->GetPartition(i), name, skip, leaves);
+    }
+  }
+  else if (auto* ds = vtkDataSet::SafeDownCast(object))
+  {
+    if (!skip)
+    {
+      leaves.push_back({ ds, name });
+    }
+  }
+}
+
+bool HasCellsOfDimension(vtkDataSet* ds, int dimension)
+{
+  for (vtkIdType c = 0; c < ds->GetNumberOfCells(); ++c)
+  {
+    if (vtkCellTypes::GetDimension(static_cast<unsigned char>(ds->GetCellType(c))) == dimension)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string TypeName(int type)
+{
+  const char* name = vtkCellTypes::GetClassNameFromTypeId(type);
+  std::ostringstream s;
+  s << (name ? name : "unknown cell") << " (VTK type " << type << ")";
+  return s.str();
+}
+
+/// Node ids of a 2-D cell as a triangle or quad in its own order; false if
+/// the cell is neither.
+bool PolygonIds(int type, vtkIdList* ids, vtkIdType out[4], int& n)
+{
+  n = static_cast<int>(ids->GetNumberOfIds());
+  if (type == VTK_TRIANGLE || type == VTK_QUAD || (type == VTK_POLYGON && (n == 3 || n == 4)))
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      out[i] = ids->GetId(i);
+    }
+    return n == 3 || n == 4;
+  }
+  if (type == VTK_PIXEL && n == 4)
+  {
+    out[0] = ids->GetId(0);
+    out[1] = ids->GetId(1);
+    out[2] = ids->GetId(3);
+    out[3] = ids->GetId(2);
+    return true;
+  }
+  return false;
+}
+}
+
+// ----------------------------------------------------------------------------
+std::string vtkARSolverMesh::CleanName(const std::string& name, const std::string& fallback)
+{
+  std::string clean;
+  for (char c : name)
+  {
+    clean += (std::isspace(static_cast<unsigned char>(c)) || c == '"' || c == '=' || c == '%')
+      ? '_'
+      : c;
+  }
+  return clean.empty() ? fallback : clean;
+}
+
+void vtkARSolverMesh::AppendDouble(std::string& s, double v)
+{
+  char buffer[32];
+  const int n = std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+  s.append(buffer, static_cast<size_t>(n));
+}
+
+bool vtkARSolverMesh::WriteAtomically(const std::string& path,
+  const std::function<bool(std::ostream&, std::string&)>& body, std::string& error)
+{
+  if (path.empty())
+  {
+    error = "no file name is set";
+    return false;
+  }
+  const std::string temporary = path + ".tmp" + std::to_string(static_cast<long>(::getpid()));
+  {
+    std::ofstream out(temporary, std::ios::out | std::ios::trunc | std::ios::binary);
+    if (!out)
+    {
+      error = "cannot open '" + temporary + "' for writing (does the directory exist, is it writable?)";
+      return false;
+    }
+    bool ok = false;
+    try
+    {
+      ok = body(out, error);
+    }
+    catch (const std::exception& e)
+    {
+      error = std::string("failed while writing: ") + e.what();
+      ok = false;
+    }
+    out.flush();
+    if (ok && !out)
+    {
+      error = "writing '" + temporary + "' failed (disk full?)";
+      ok = false;
+    }
+    out.close();
+    if (ok && out.fail())
+    {
+      error = "closing '" + temporary + "' failed";
+      ok = false;
+    }
+    if (!ok)
+    {
+      std::remove(temporary.c_str());
+      return false;
+    }
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0)
+  {
+    std::remove(temporary.c_str());
+    error = "cannot rename the finished temporary file onto '" + path + "' (is it a directory?)";
+    return false;
+  }
+  return true;
+}
+
+// ----------------------------------------------------------------------------
+bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatchName,
+  double tolerance, vtkAlgorithm* progress, std::string& error)
+{
+  *this = vtkARSolverMesh();
+  if (!input)
+  {
+    error = "there is no input";
+    return false;
+  }
+
+  // ---- Which form: the volume dataset and where the patches come from.
+  vtkDataSet* volume = nullptr;
+  std::vector<Leaf> patchLeaves;
+  if (vtkDataSet::SafeDownCast(input))
+  {
+    volume = vtkDataSet::SafeDownCast(input);
+  }
+  else if (vtkMultiBlockDataSet::SafeDownCast(input) || vtkPartitionedDataSet::SafeDownCast(input))
+  {
+    this->Form = "multiblock";
+    std::vector<Leaf> leaves;
+    CollectLeaves(input, "", false, leaves);
+    size_t volumeLeaf = leaves.size();
+    for (size_t i = 0; i < leaves.size() && volumeLeaf == leaves.size(); ++i)
+    {
+      if (leaves[i].Name == "internalMesh" && HasCellsOfDimension(leaves[i].Data, 3))
+      {
+        volumeLeaf = i;
+      }
+    }
+    for (size_t i = 0; i < leaves.size() && volumeLeaf == leaves.size(); ++i)
+    {
+      if (HasCellsOfDimension(leaves[i].Data, 3))
+      {
+        volumeLeaf = i;
+      }
+    }
+    if (volumeLeaf == leaves.size())
+    {
+      error = "no block of the multiblock input has 3-D cells (a volume mesh, e.g. the OpenFOAM "
+              "reader's internalMesh, is needed)";
+      return false;
+    }
+    volume = leaves[volumeLeaf].Data;
+    for (size_t i = 0; i < leaves.size(); ++i)
+    {
+      if (i == volumeLeaf)
+      {
+        continue;
+      }
+      if (HasCellsOfDimension(leaves[i].Data, 3))
+      {
+        this->Warnings += "block '" + leaves[i].Name +
+          "' has 3-D cells but is not the volume written (only one volume block is written); "
+          "it is ignored\n";
+      }
+      else if (HasCellsOfDimension(leaves[i].Data, 2))
+      {
+        patchLeaves.push_back(leaves[i]);
+      }
+    }
+  }
+  else
+  {
+    error = std::string("the input is a ") + input->GetClassName() +
+      "; a vtkUnstructuredGrid (or any vtkDataSet) or a vtkMultiBlockDataSet is needed";
+    return false;
+  }
+
+  // ---- Volume cells, compact points.
+  const vtkIdType nInputCells = volume->GetNumberOfCells();
+  const vtkIdType nInputPoints = volume->GetNumberOfPoints();
+  std::vector<vtkIdType> pointMap(static_cast<size_t>(nInputPoints), -1);
+  vtkUnsignedCharArray* ghosts = volume->GetCellGhostArray();
+  vtkNew<vtkIdList> ids;
+  std::vector<vtkIdType> surfaceCells; // 2-D cells of the volume dataset (form (b))
+  for (vtkIdType c = 0; c < nInputCells; ++c)
+  {
+    if (ghosts &&
+      (ghosts->GetValue(c) & (vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::HIDDENCELL)))
+    {
+      continue;
+    }
+    const int type = volume->GetCellType(c);
+    const int dimension = vtkCellTypes::GetDimension(static_cast<unsigned char>(type));
+    if (dimension < 3)
+    {
+      if (dimension == 2)
+      {
+        surfaceCells.push_back(c);
+      }
+      continue;
+    }
+    static const int voxelToHex[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
+    unsigned char written = static_cast<unsigned char>(type);
+    if (type == VTK_VOXEL)
+    {
+      written = VTK_HEXAHEDRON;
+    }
+    else if (type != VTK_TETRA && type != VTK_HEXAHEDRON && type != VTK_WEDGE && type != VTK_PYRAMID)
+    {
+      error = "cell " + std::to_string(c) + " is a " + TypeName(type) +
+        ", which these formats cannot hold: only linear tetrahedra, hexahedra (and voxels), wedges "
+        "and pyramids are written (polyhedra and quadratic cells are not)";
+      return false;
+    }
+    volume->GetCellPoints(c, ids);
+    const vtkIdType npts = ids->GetNumberOfIds();
+    for (vtkIdType i = 0; i < npts; ++i)
+    {
+      const vtkIdType p = ids->GetId(type == VTK_VOXEL ? voxelToHex[i] : i);
+      if (pointMap[p] < 0)
+      {
+        double x[3];
+        volume->GetPoint(p, x);
+        if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+        {
+          error = "point " + std::to_string(p) + " of the volume has a NaN or Inf coordinate";
+          return false;
+        }
+        pointMap[p] = this->GetNumberOfPoints();
+        this->Points.insert(this->Points.end(), x, x + 3);
+      }
+      this->CellConnectivity.push_back(pointMap[p]);
+    }
+    this->CellTypes.push_back(written);
+    this->CellOffsets.push_back(static_cast<vtkIdType>(this->CellConnectivity.size()));
+  }
+  if (this->CellTypes.empty())
+  {
+    error = "the input has no 3-D cells (tetrahedra, hexahedra, wedges or pyramids): a volume "
+            "mesh is needed";
+    return false;
+  }
+  if (progress)
+  {
+    progress->UpdateProgress(0.15);
+  }
+
+  // ---- Orientation (volume from the outward faces) and the face table.
+  const vtkIdType nCells = this->GetNumberOfCells();
+  std::unordered_map<FaceKey, FaceRecord, FaceKeyHash> faces;
+  faces.reserve(static_cast<size_t>(nCells) * 4);
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    const unsigned char type = this->CellTypes[c];
+    const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
+    const double* origin = &this->Points[3 * cell[0]];
+    double volume6 = 0.0;
+    for (int f = 0; f < NumberOfFaces(type); ++f)
+    {
+      const int* face = Face(type, f);
+      const int n = FaceSize(face);
+      vtkIdType fids[4];
+      for (int i = 0; i < n; ++i)
+      {
+        fids[i] = cell[face[i]];
+      }
+      for (int t = 1; t + 1 < n; ++t)
+      {
+        double a[3], b[3], d[3];
+        for (int k = 0; k < 3; ++k)
+        {
+          a[k] = this->Points[3 * fids[0] + k] - origin[k];
+          b[k] = this->Points[3 * fids[t] + k] - origin[k];
+          d[k] = this->Points[3 * fids[t + 1] + k] - origin[k];
+        }
+        volume6 += a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
+          a[2] * (b[0] * d[1] - b[1] * d[0]);
+      }
+      FaceRecord& record = faces[MakeKey(fids, n)];
+      if (record.Count == 0)
+      {
+        record.Cell = c;
+        record.LocalFace = f;
+      }
+      ++record.Count;
+      if (record.Count > 2)
+      {
+        error = "a face of written cell " + std::to_string(c) +
+          " is shared by more than two cells (the mesh is not a valid conforming volume mesh)";
+        return false;
+      }
+    }
+    if (!(volume6 > 0.0))
+    {
+      error = "3-D cell number " + std::to_string(c) + " (a " + TypeName(type) +
+        ") is inverted or degenerate: its volume from its faces in VTK's node order is " +
+        std::to_string(volume6 / 6.0);
+      return false;
+    }
+  }
+  if (progress)
+  {
+    progress->UpdateProgress(0.3);
+  }
+
+  // ---- Patches.
+  std::map<std::string, int> patchByName;
+  auto patchIndex = [&](const std::string& rawName, const std::string& fallback) {
+    const std::string name = CleanName(rawName, fallback);
+    if (name != rawName && !rawName.empty())
+    {
+      this->Warnings += "patch name '" + rawName + "' is written as '" + name + "'\n";
+    }
+    auto it = patchByName.find(name);
+    if (it != patchByName.end())
+    {
+      return it->second;
+    }
+    const int index = static_cast<int>(this->Patches.size());
+    this->Patches.emplace_back();
+    this->Patches.back().Name = name;
+    patchByName[name] = index;
+    return index;
+  };
+  auto addFace = [&](int patch, const FaceRecord& record) {
+    const unsigned char type = this->CellTypes[record.Cell];
+    const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[record.Cell];
+    const int* face = Face(type, record.LocalFace);
+    Patch& p = this->Patches[patch];
+    for (int i = 0; i < FaceSize(face); ++i)
+    {
+      p.Connectivity.push_back(cell[face[i]]);
+    }
+    p.Offsets.push_back(static_cast<vtkIdType>(p.Connectivity.size()));
+  };
+  // Assigns one input face (model point ids) to a patch.
+  auto assign = [&](int patch, const vtkIdType* fids, int n, const std::string& what) {
+    auto it = faces.find(MakeKey(fids, n));
+    if (it == faces.end())
+    {
+      error = what + " of patch '" + this->Patches[patch].Name +
+        "' is not a face of any 3-D cell (its points are volume points, but no cell face has "
+        "exactly them)";
+      return false;
+    }
+    FaceRecord& record = it->second;
+    if (record.Count != 1)
+    {
+      error = what + " of patch '" + this->Patches[patch].Name +
+        "' is an interior face (shared by two cells), not a boundary face of the volume";
+      return false;
+    }
+    if (record.Patch >= 0)
+    {
+      if (record.Patch != patch)
+      {
+        error = what + " of patch '" + this->Patches[patch].Name + "' is also in patch '" +
+          this->Patches[record.Patch].Name + "' (a boundary face belongs to one patch)";
+        return false;
+      }
+      return true; // the same face twice in one patch: written once
+    }
+    record.Patch = patch;
+    addFace(patch, record);
+    return true;
+  };
+
+  vtkDataArray* patchIds =
+    this->Form.empty() ? volume->GetCellData()->GetArray("PatchId") : nullptr;
+  if (this->Form.empty() && volume->GetCellData()->GetAbstractArray("PatchId") && !patchIds)
+  {
+    error = "the cell array PatchId is not numeric (an integer array is needed)";
+    return false;
+  }
+  if (patchIds && (patchIds->GetDataType() == VTK_FLOAT || patchIds->GetDataType() == VTK_DOUBLE))
+  {
+    error = std::string("the cell array PatchId is a ") + patchIds->GetClassName() +
+      "; an integer array is needed";
+    return false;
+  }
+  if (patchIds && patchIds->GetNumberOfComponents() != 1)
+  {
+    error = "the cell array PatchId has " + std::to_string(patchIds->GetNumberOfComponents()) +
+      " components; one is needed";
+    return false;
+  }
+
+  if (this->Form == "multiblock")
+  {
+    // (a) Patch leaves matched by coordinates.
+    vtkNew<vtkPoints> modelPoints;
+    modelPoints->SetDataTypeToDouble();
+    modelPoints->SetNumberOfPoints(this->GetNumberOfPoints());
+    for (vtkIdType p = 0; p < this->GetNumberOfPoints(); ++p)
+    {
+      modelPoints->SetPoint(p, &this->Points[3 * p]);
+    }
+    vtkNew<vtkPolyData> cloud;
+    cloud->SetPoints(modelPoints);
+    vtkNew<vtkStaticPointLocator> locator;
+    locator->SetDataSet(cloud);
+    locator->BuildLocator();
+    double bounds[6];
+    modelPoints->GetBounds(bounds);
+    const double diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+      (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+      (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+    const double radius = std::max(tolerance, 0.0) * diagonal;
+    for (size_t l = 0; l < patchLeaves.size(); ++l)
+    {
+      vtkDataSet* leaf = patchLeaves[l].Data;
+      const int patch = patchIndex(patchLeaves[l].Name, "patch" + std::to_string(l));
+      std::vector<vtkIdType> leafMap(static_cast<size_t>(leaf->GetNumberOfPoints()), -2);
+      for (vtkIdType c = 0; c < leaf->GetNumberOfCells(); ++c)
+      {
+        const int type = leaf->GetCellType(c);
+        if (vtkCellTypes::GetDimension(static_cast<unsigned char>(type)) != 2)
+        {
+          continue;
+        }
+        leaf->GetCellPoints(c, ids);
+        vtkIdType local[4];
+        int n = 0;
+        if (!PolygonIds(type, ids, local, n))
+        {
+          error = "face " + std::to_string(c) + " of patch '" + this->Patches[patch].Name +
+            "' is a " + TypeName(type) + " with " + std::to_string(ids->GetNumberOfIds()) +
+            " points; only triangles and quadrilaterals can be written";
+          return false;
+        }
+        vtkIdType fids[4];
+        for (int i = 0; i < n; ++i)
+        {
+          vtkIdType& m = leafMap[local[i]];
+          if (m == -2)
+          {
+            double x[3];
+            leaf->GetPoint(local[i], x);
+            double dist2 = 0.0;
+            m = (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))
+              ? locator->FindClosestPointWithinRadius(radius, x, dist2)
+              : -1;
+            if (m < 0)
+            {
+              std::ostringstream s;
+              s << "point " << local[i] << " (" << x[0] << ", " << x[1] << ", " << x[2]
+                << ") of patch '" << this->Patches[patch].Name
+                << "' has no point of the volume within " << radius
+                << " (tolerance relative to the bounding-box diagonal: " << tolerance
+                << "): the patch is not on the volume's boundary";
+              error = s.str();
+              return false;
+            }
+          }
+          fids[i] = m;
+        }
+        if (!assign(patch, fids, n, "face " + std::to_string(c)))
+        {
+          return false;
+        }
+      }
+    }
+  }
+  else if (patchIds)
+  {
+    // (b) 2-D cells with PatchId >= 0, named by PatchNames.
+    this->Form = "PatchId";
+    vtkStringArray* names =
+      vtkStringArray::SafeDownCast(volume->GetFieldData()->GetAbstractArray("PatchNames"));
+    std::map<long long, std::vector<vtkIdType>> byId;
+    for (vtkIdType c : surfaceCells)
+    {
+      const long long id = static_cast<long long>(patchIds->GetComponent(c, 0));
+      if (id >= 0)
+      {
+        byId[id].push_back(c);
+      }
+    }
+    for (const auto& entry : byId)
+    {
+      std::string rawName;
+      if (names && entry.first < names->GetNumberOfValues())
+      {
+        rawName = names->GetValue(entry.first);
+      }
+      else if (names)
+      {
+        this->Warnings += "PatchNames has no entry " + std::to_string(entry.first) +
+          "; the patch is named patch" + std::to_string(entry.first) + "\n";
+      }
+      const int patch = patchIndex(rawName, "patch" + std::to_string(entry.first));
+      for (vtkIdType c : entry.second)
+      {
+        const int type = volume->GetCellType(c);
+        volume->GetCellPoints(c, ids);
+        vtkIdType local[4];
+        int n = 0;
+        if (!PolygonIds(type, ids, local, n))
+        {
+          error = "boundary cell " + std::to_string(c) + " of patch '" +
+            this->Patches[patch].Name + "' is a " + TypeName(type) + " with " +
+            std::to_string(ids->GetNumberOfIds()) +
+            " points; only triangles and quadrilaterals can be written";
+          return false;
+        }
+        vtkIdType fids[4];
+        for (int i = 0; i < n; ++i)
+        {
+          fids[i] = pointMap[local[i]];
+          if (fids[i] < 0)
+          {
+            error = "boundary cell " + std::to_string(c) + " of patch '" +
+              this->Patches[patch].Name + "' uses point " + std::to_string(local[i]) +
+              ", which no 3-D cell uses: the face is not on the volume's boundary";
+            return false;
+          }
+        }
+        if (!assign(patch, fids, n, "boundary cell " + std::to_string(c)))
+        {
+          return false;
+        }
+      }
+    }
+  }
+  else
+  {
+    this->Form = "volume only";
+    if (!surfaceCells.empty())
+    {
+      this->Warnings += std::to_string(surfaceCells.size()) +
+        " 2-D cells are ignored (no PatchId cell array says which patch they belong to)\n";
+    }
+  }
+  if (progress)
+  {
+    progress->UpdateProgress(0.4);
+  }
+
+  // ---- Boundary faces no patch covers: the default patch, in cell order.
+  vtkIdType unassigned = 0;
+  int defaultPatch = -1;
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    const unsigned char type = this->CellTypes[c];
+    const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
+    for (int f = 0; f < NumberOfFaces(type); ++f)
+    {
+      const int* face = Face(type, f);
+      const int n = FaceSize(face);
+      vtkIdType fids[4];
+      for (int i = 0; i < n; ++i)
+      {
+        fids[i] = cell[face[i]];
+      }
+      FaceRecord& record = faces[MakeKey(fids, n)];
+      if (record.Count == 1 && record.Patch < 0)
+      {
+        if (defaultPatch < 0)
+        {
+          defaultPatch = patchIndex(defaultPatchName, "boundary");
+        }
+        record.Patch = defaultPatch;
+        addFace(defaultPatch, record);
+        ++unassigned;
+      }
+    }
+  }
+  if (unassigned > 0 && this->Form != "volume only")
+  {
+    this->Warnings += std::to_string(unassigned) +
+      " boundary faces of the volume are in no patch; they are written to patch '" +
+      this->Patches[defaultPatch].Name + "'\n";
+  }
+  // Empty patches cannot be expressed (Gmsh physical groups, SU2 markers need elements).
+  std::vector<Patch> kept;
+  for (auto& p : this->Patches)
+  {
+    if (p.GetNumberOfFaces() > 0)
+    {
+      kept.push_back(std::move(p));
+    }
+    else
+    {
+      this->Warnings += "patch '" + p.Name + "' has no faces and is not written\n";
+    }
+  }
+  this->Patches = std::move(kept);
+  if (progress)
+  {
+    progress->UpdateProgress(0.5);
+  }
+  return true;
+}

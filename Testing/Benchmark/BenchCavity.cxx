@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: BSD-3-Clause
+//
+// BenchCavity: times ar::RemeshLocalCavity (LocalCavity and FullDomain) on
+// Kuhn-subdivided unit cubes with a planar feature surface, and prints a
+// Markdown table. A benchmark, not a test.
+//
+//   BenchCavity [n ...]     cubes per side, default 30 55 (162,000 and 998,250 tetrahedra)
+//
+// The surface: the plane z = 0.5 + 0.2 (x - 0.5) over [0.1, 0.9]^2,
+// triangulated at the mesh's edge length 1/n. Each row runs once (TetGen
+// dominates and does not vary much).
+
+#include "ARCavity.h"
+#include "ARTetGeometry.h"
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace
+{
+double Now()
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double PeakRSSMB()
+{
+  rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_maxrss / 1024.0;
+}
+
+ar::TetMesh KuhnCube(int n)
+{
+  ar::TetMesh m;
+  auto id = [n](int i, int j, int k) { return static_cast<std::int64_t>(i + (n + 1) * (j + (n + 1) * static_cast<std::int64_t>(k))); };
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i)
+        m.Points.insert(m.Points.end(), { double(i) / n, double(j) / n, double(k) / n });
+  static const int perms[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        for (const auto& p : perms)
+        {
+          int c[3] = { i, j, k };
+          std::int64_t v[4];
+          v[0] = id(c[0], c[1], c[2]);
+          for (int s = 0; s < 3; ++s)
+          {
+            ++c[p[s]];
+            v[s + 1] = id(c[0], c[1], c[2]);
+          }
+          if (ar::TetSignedVolume(&m.Points[3 * v[0]], &m.Points[3 * v[1]], &m.Points[3 * v[2]], &m.Points[3 * v[3]]) < 0)
+            std::swap(v[1], v[2]);
+          m.Tetrahedra.insert(m.Tetrahedra.end(), v, v + 4);
+        }
+  return m;
+}
+}
+
+int main(int argc, char* argv[])
+{
+  std::vector<int> sizes;
+  for (int i = 1; i < argc; ++i)
+    sizes.push_back(std::atoi(argv[i]));
+  if (sizes.empty())
+    sizes = { 30, 55 };
+  std::printf("| mode | input tets | surface triangles | s | new tets | new tets/s | kept tets | peak RSS MB |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (int n : sizes)
+  {
+    const ar::TetMesh cube = KuhnCube(n);
+    const int m = static_cast<int>(0.8 * n);
+    std::vector<double> pts;
+    std::vector<std::int64_t> tris;
+    for (int j = 0; j <= m; ++j)
+      for (int i = 0; i <= m; ++i)
+      {
+        const double x = 0.1 + 0.8 * i / m, y = 0.1 + 0.8 * j / m;
+        pts.insert(pts.end(), { x, y, 0.5 + 0.2 * (x - 0.5) });
+      }
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i)
+      {
+        const std::int64_t a = i + (m + 1) * j, b = a + 1, c = a + m + 2, d = a + m + 1;
+        tris.insert(tris.end(), { a, b, c, a, c, d });
+      }
+    for (int full = 0; full < 2; ++full)
+    {
+      ar::CavityOptions o;
+      o.FullDomain = full == 1;
+      ar::CavityRemesh r;
+      std::string error;
+      const double t0 = Now();
+      const bool ok = ar::RemeshLocalCavity(cube, pts.data(), pts.size() / 3, tris.data(), tris.size() / 3, o, r, error);
+      const double dt = Now() - t0;
+      std::size_t fresh = 0, kept = 0;
+      for (std::int64_t s : r.SourceCell)
+        (s < 0 ? fresh : kept) += 1;
+      if (!ok)
+        std::printf("| %s | %zu | %zu | failed: %s |\n", full ? "FullDomain" : "LocalCavity", cube.NumberOfTetrahedra(), tris.size() / 3, error.c_str());
+      else
+        std::printf("| %s | %zu | %zu | %.2f | %zu | %.3g | %zu | %.0f |\n", full ? "FullDomain" : "LocalCavity",
+          cube.NumberOfTetrahedra(), tris.size() / 3, dt, fresh, fresh / dt, kept, PeakRSSMB());
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}

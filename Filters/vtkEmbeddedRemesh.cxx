@@ -10,6 +10,9 @@
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCellType.h"
+#include "vtkCellTypes.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataObjectTreeIterator.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -19,6 +22,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -52,7 +56,9 @@ int vtkEmbeddedRemesh::FillInputPortInformation(int port, vtkInformation* info)
 {
   if (port == 0)
   {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkUnstructuredGrid");
+    info->Remove(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE());
+    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkUnstructuredGrid");
+    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkMultiBlockDataSet");
     return 1;
   }
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
@@ -63,7 +69,40 @@ int vtkEmbeddedRemesh::FillInputPortInformation(int port, vtkInformation* info)
 //------------------------------------------------------------------------------
 int vtkEmbeddedRemesh::FillOutputPortInformation(int port, vtkInformation* info)
 {
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkUnstructuredGrid" : "vtkPolyData");
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkDataObject" : "vtkPolyData");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkEmbeddedRemesh::RequestDataObject(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);
+  if (!input)
+  {
+    return 0;
+  }
+  vtkInformation* info = outputVector->GetInformationObject(0);
+  vtkDataObject* output = info->Get(vtkDataObject::DATA_OBJECT());
+  const bool composite = vtkMultiBlockDataSet::SafeDownCast(input) != nullptr;
+  if (!output || (composite ? !vtkMultiBlockDataSet::SafeDownCast(output) : !vtkUnstructuredGrid::SafeDownCast(output)))
+  {
+    vtkSmartPointer<vtkDataObject> fresh;
+    if (composite)
+    {
+      fresh = vtkSmartPointer<vtkMultiBlockDataSet>::New();
+    }
+    else
+    {
+      fresh = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    }
+    info->Set(vtkDataObject::DATA_OBJECT(), fresh);
+  }
+  vtkInformation* info1 = outputVector->GetInformationObject(1);
+  if (!vtkPolyData::SafeDownCast(info1->Get(vtkDataObject::DATA_OBJECT())))
+  {
+    info1->Set(vtkDataObject::DATA_OBJECT(), vtkSmartPointer<vtkPolyData>::New());
+  }
   return 1;
 }
 
@@ -71,10 +110,77 @@ int vtkEmbeddedRemesh::FillOutputPortInformation(int port, vtkInformation* info)
 int vtkEmbeddedRemesh::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
+  vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
   vtkPolyData* embedded = vtkPolyData::GetData(outputVector, 1);
   embedded->Initialize();
+  std::vector<vtkDataSet*> surfaces;
+  for (int k = 0; k < inputVector[1]->GetNumberOfInformationObjects(); ++k)
+  {
+    surfaces.push_back(vtkDataSet::GetData(inputVector[1], k));
+  }
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(inputObject))
+  {
+    return this->RemeshVolume(grid, surfaces, vtkUnstructuredGrid::GetData(outputVector, 0), embedded);
+  }
+  // A multiblock (ParaView's OpenFOAM reader): the volume leaf ("internalMesh",
+  // else the first unstructured grid with 3-D cells) is remeshed; the patch
+  // leaves pass through, as the boundary does not change.
+  auto* input = vtkMultiBlockDataSet::SafeDownCast(inputObject);
+  auto* output = vtkMultiBlockDataSet::GetData(outputVector, 0);
+  output->CopyStructure(input);
+  vtkUnstructuredGrid* volume = nullptr;
+  vtkSmartPointer<vtkDataObjectTreeIterator> it;
+  it.TakeReference(input->NewTreeIterator());
+  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  {
+    auto* grid = vtkUnstructuredGrid::SafeDownCast(it->GetCurrentDataObject());
+    const char* name = it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME());
+    const bool isInternal = name && std::string(name) == "internalMesh";
+    bool solid = false;
+    for (vtkIdType c = 0; grid && c < grid->GetNumberOfCells() && !solid; ++c)
+    {
+      solid = vtkCellTypes::GetDimension(grid->GetCellType(c)) == 3;
+    }
+    if (grid && solid && (isInternal || !volume))
+    {
+      volume = grid;
+      if (isInternal)
+      {
+        break;
+      }
+    }
+  }
+  vtkNew<vtkUnstructuredGrid> remeshed;
+  if (!volume)
+  {
+    vtkErrorMacro(<< "The multiblock input has no block with 3-D cells (e.g. internalMesh). The "
+                     "input passes through unchanged.");
+    output->ShallowCopy(input);
+    return 1;
+  }
+  this->RemeshVolume(volume, surfaces, remeshed, embedded);
+  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  {
+    vtkDataObject* leaf = it->GetCurrentDataObject();
+    if (leaf == volume)
+    {
+      output->SetDataSet(it, remeshed);
+    }
+    else if (leaf)
+    {
+      vtkSmartPointer<vtkDataObject> copy;
+      copy.TakeReference(leaf->NewInstance());
+      copy->ShallowCopy(leaf);
+      output->SetDataSet(it, copy);
+    }
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
+  const std::vector<vtkDataSet*>& surfaces, vtkUnstructuredGrid* output, vtkPolyData* embedded)
+{
   auto passThrough = [&](const std::string& message) {
     vtkErrorMacro(<< message << " The input passes through unchanged.");
     output->ShallowCopy(input);
@@ -92,10 +198,8 @@ int vtkEmbeddedRemesh::RequestData(
 
   // ---- The feature surfaces, merged and triangulated.
   vtkNew<vtkAppendPolyData> append;
-  const int nSurfaces = inputVector[1]->GetNumberOfInformationObjects();
-  for (int k = 0; k < nSurfaces; ++k)
+  for (vtkDataSet* ds : surfaces)
   {
-    vtkDataSet* ds = vtkDataSet::GetData(inputVector[1], k);
     if (!ds || ds->GetNumberOfCells() == 0)
     {
       continue;
@@ -169,8 +273,11 @@ int vtkEmbeddedRemesh::RequestData(
       tetCell.push_back(c);
     }
     else if (type == VTK_HEXAHEDRON || type == VTK_WEDGE || type == VTK_PYRAMID ||
-      type == VTK_VOXEL || type == VTK_POLYHEDRON)
+      type == VTK_VOXEL || type == VTK_POLYHEDRON || type == VTK_TRIANGLE || type == VTK_QUAD ||
+      type == VTK_POLYGON)
     {
+      // Kept as they are: other 3-D cells, and boundary-patch faces (2-D
+      // cells with a PatchId, as the solver writers take them).
       for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
       {
         options.LockedNodes[ids->GetId(k)] = 1;
@@ -182,7 +289,8 @@ int vtkEmbeddedRemesh::RequestData(
       std::ostringstream msg;
       msg << "Cell " << c << " has type " << type
           << "; EmbeddedRemesh takes linear 3-D cells (tetrahedra are remeshed; hexahedra, "
-             "wedges, pyramids and polyhedra are kept).";
+             "wedges, pyramids and polyhedra are kept) and triangles, quads or polygons as "
+             "boundary-patch faces (kept).";
       return passThrough(msg.str());
     }
   }
@@ -276,6 +384,7 @@ int vtkEmbeddedRemesh::RequestData(
     points->SetPoint(i, &result.Mesh.Points[3 * i]);
   }
   output->Initialize();
+  output->GetFieldData()->ShallowCopy(input->GetFieldData());
   output->SetPoints(points);
   const auto nTets = static_cast<vtkIdType>(result.SourceCell.size());
   output->Allocate(nTets + static_cast<vtkIdType>(otherCell.size()));

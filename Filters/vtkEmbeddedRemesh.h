@@ -6,7 +6,11 @@
  *
  * Input port 0: the volume mesh V (vtkUnstructuredGrid; tetrahedra are
  * remeshed, other 3-D cells are kept as they are and their nodes never
- * move). Input port 1: one or more feature surfaces S (QuadricFit,
+ * move; triangles, quads and polygons, e.g. boundary-patch faces with a
+ * PatchId, are kept too), or a vtkMultiBlockDataSet as ParaView's OpenFOAM
+ * reader gives (the "internalMesh" leaf, else the first leaf with 3-D cells,
+ * is remeshed; the patch leaves pass through: the boundary does not change,
+ * so they still fit the new volume exactly). Input port 1: one or more feature surfaces S (QuadricFit,
  * MedialAxisDelaunay, a hand-edited surface, any polydata; several
  * connections are merged).
  *
@@ -47,13 +51,19 @@
 #define vtkEmbeddedRemesh_h
 
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkDataObjectAlgorithm.h"
 
-class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkEmbeddedRemesh : public vtkUnstructuredGridAlgorithm
+#include <vector> // for the surfaces
+
+class vtkDataSet;
+class vtkPolyData;
+class vtkUnstructuredGrid;
+
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkEmbeddedRemesh : public vtkDataObjectAlgorithm
 {
 public:
   static vtkEmbeddedRemesh* New();
-  vtkTypeMacro(vtkEmbeddedRemesh, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkEmbeddedRemesh, vtkDataObjectAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   enum Modes
@@ -92,7 +102,12 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  /// The remeshing of one volume mesh (the whole input, or a multiblock's volume leaf).
+  int RemeshVolume(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces,
+    vtkUnstructuredGrid* output, vtkPolyData* embedded);
 
 private:
   vtkEmbeddedRemesh(const vtkEmbeddedRemesh&) = delete;

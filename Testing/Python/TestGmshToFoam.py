@@ -1,6 +1,6 @@
 """The Gmsh MSH 2.2 files of vtkGmshWriter through OpenFOAM's own reader:
 write a mesh with SaveData('.msh'), make a minimal case, run `gmshToFoam`
-and `checkMesh`, and assert
+and `checkMesh` (also on the OpenFOAM cone's mesh adapted by EmbeddedRemesh), and assert
 - gmshToFoam exits 0;
 - constant/polyMesh/boundary has exactly the written physical names as
   patches, with the number of faces written to each;
@@ -199,5 +199,18 @@ names.InsertNextValue("floor")
 names.InsertNextValue("tip")
 H.GetFieldData().AddArray(names)
 run_case("hybrid", H, {"hexahedra": 1, "prisms": 1, "pyramids": 1, "tetrahedra": 1})
+
+# ---- The cone's mesh adapted by EmbeddedRemesh: the solver takes it.
+cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
+csrc = servermanager.Fetch(cone)
+gamma = csrc.GetFieldData().GetArray("Gamma").GetValue(0)
+sensor = ShockSensor(Input=cone, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"], Gamma=gamma)
+clusters = FeatureCluster(Input=sensor, SensorArray=["POINTS", "NormalMach"], SensorRange=[0.8, 1.2])
+fit = QuadricFit(Input=OutputPort(clusters, 1), Domain=cone, Template="Cone", ClusterId=0)
+adapted = EmbeddedRemesh(Input=cone, Surfaces=[fit])
+adapted.UpdatePipeline()
+A = servermanager.Fetch(adapted)
+check(A.GetCellData().GetArray("Region") is not None, "cone: EmbeddedRemesh ran (%d cells)" % A.GetNumberOfCells())
+run_case("cone_adapted", A, {"tetrahedra": A.GetNumberOfCells()})
 
 artest.finish()

@@ -203,41 +203,65 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
   // ---- Face adjacency of V; its boundary faces.
   std::vector<std::int64_t> neighbor(4 * nT, -1);
   {
-    std::vector<std::pair<std::array<std::int64_t, 3>, std::int64_t>> faces;
-    faces.reserve(4 * nT);
+    // Faces bucketed by their smallest node (a counting sort, linear), then
+    // matched within each small bucket by their other two nodes.
+    struct Face
+    {
+      std::int64_t B, C, TetFace;
+      bool operator<(const Face& o) const { return B < o.B || (B == o.B && C < o.C); }
+    };
+    std::vector<std::int64_t> offset(nV + 1, 0);
+    auto sorted = [&](std::size_t t, int f) {
+      std::array<std::int64_t, 3> key;
+      for (int k = 0; k < 3; ++k)
+      {
+        key[k] = V.Tetrahedra[4 * t + FaceVertex[f][k]];
+      }
+      std::sort(key.begin(), key.end());
+      return key;
+    };
     for (std::size_t t = 0; t < nT; ++t)
     {
       for (int f = 0; f < 4; ++f)
       {
-        std::array<std::int64_t, 3> key;
-        for (int k = 0; k < 3; ++k)
-        {
-          key[k] = V.Tetrahedra[4 * t + FaceVertex[f][k]];
-        }
-        std::sort(key.begin(), key.end());
-        faces.emplace_back(key, static_cast<std::int64_t>(4 * t + f));
+        ++offset[sorted(t, f)[0] + 1];
       }
     }
-    std::sort(faces.begin(), faces.end());
-    for (std::size_t i = 0; i < faces.size();)
+    std::partial_sum(offset.begin(), offset.end(), offset.begin());
+    std::vector<Face> faces(4 * nT);
+    std::vector<std::int64_t> fill(offset.begin(), offset.end() - 1);
+    for (std::size_t t = 0; t < nT; ++t)
     {
-      std::size_t j = i + 1;
-      while (j < faces.size() && faces[j].first == faces[i].first)
+      for (int f = 0; f < 4; ++f)
       {
-        ++j;
+        const auto key = sorted(t, f);
+        faces[fill[key[0]]++] = Face{ key[1], key[2], static_cast<std::int64_t>(4 * t + f) };
       }
-      if (j - i > 2)
+    }
+    for (std::size_t v = 0; v < nV; ++v)
+    {
+      const auto first = faces.begin() + offset[v], last = faces.begin() + offset[v + 1];
+      std::sort(first, last);
+      for (auto i = first; i != last;)
       {
-        error = "the volume mesh is not conforming: a face is shared by " + std::to_string(j - i) +
-          " tetrahedra.";
-        return false;
+        auto j = i + 1;
+        while (j != last && j->B == i->B && j->C == i->C)
+        {
+          ++j;
+        }
+        if (j - i > 2)
+        {
+          error = "the volume mesh is not conforming: a face is shared by " +
+            std::to_string(j - i) + " tetrahedra.";
+          return false;
+        }
+        if (j - i == 2)
+        {
+          neighbor[i->TetFace] = (i + 1)->TetFace / 4;
+          neighbor[(i + 1)->TetFace] = i->TetFace / 4;
+        }
+        i = j;
       }
-      if (j - i == 2)
-      {
-        neighbor[faces[i].second] = faces[i + 1].second / 4;
-        neighbor[faces[i + 1].second] = faces[i].second / 4;
-      }
-      i = j;
     }
   }
   std::vector<Triangle> boundary;

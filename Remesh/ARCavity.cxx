@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARCavity.h"
+#include "ARUnionFind.h"
 
 #include "ARTetGeometry.h"
 
@@ -45,33 +46,6 @@ using Sphere = CGAL::Fuzzy_sphere<SearchTraits>;
 
 constexpr int FaceVertex[4][3] = { { 1, 2, 3 }, { 0, 3, 2 }, { 0, 1, 3 }, { 0, 2, 1 } };
 
-struct UnionFind
-{
-  std::vector<std::int64_t> Parent;
-  explicit UnionFind(std::size_t n)
-    : Parent(n)
-  {
-    std::iota(this->Parent.begin(), this->Parent.end(), std::int64_t(0));
-  }
-  std::int64_t Find(std::int64_t i)
-  {
-    while (this->Parent[i] != i)
-    {
-      this->Parent[i] = this->Parent[this->Parent[i]];
-      i = this->Parent[i];
-    }
-    return i;
-  }
-  void Union(std::int64_t a, std::int64_t b)
-  {
-    a = this->Find(a);
-    b = this->Find(b);
-    if (a != b)
-    {
-      this->Parent[std::max(a, b)] = std::min(a, b);
-    }
-  }
-};
 
 Point P(const double* x)
 {

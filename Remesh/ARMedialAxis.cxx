@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARMedialAxis.h"
+#include "ARUnionFind.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -60,41 +61,6 @@ void ParallelFor(std::size_t n, const std::function<void(std::size_t, std::size_
   }
 }
 
-struct UnionFind
-{
-  std::vector<std::int64_t> Parent;
-  explicit UnionFind(std::size_t n)
-    : Parent(n)
-  {
-    std::iota(this->Parent.begin(), this->Parent.end(), std::int64_t(0));
-  }
-  std::int64_t Find(std::int64_t i)
-  {
-    while (this->Parent[i] != i)
-    {
-      this->Parent[i] = this->Parent[this->Parent[i]];
-      i = this->Parent[i];
-    }
-    return i;
-  }
-  void Union(std::int64_t a, std::int64_t b)
-  {
-    a = this->Find(a);
-    b = this->Find(b);
-    if (a != b)
-    {
-      // The smaller id becomes the root: the result does not depend on the order.
-      if (a < b)
-      {
-        this->Parent[b] = a;
-      }
-      else
-      {
-        this->Parent[a] = b;
-      }
-    }
-  }
-};
 
 bool Finite3(const double* v)
 {

@@ -12,6 +12,7 @@
 
 #include "ARCavity.h"
 #include "ARTetGeometry.h"
+#include "../Cxx/ARTestMeshes.h"
 
 #include <sys/resource.h>
 
@@ -35,34 +36,6 @@ double PeakRSSMB()
   return ru.ru_maxrss / 1024.0;
 }
 
-ar::TetMesh KuhnCube(int n)
-{
-  ar::TetMesh m;
-  auto id = [n](int i, int j, int k) { return static_cast<std::int64_t>(i + (n + 1) * (j + (n + 1) * static_cast<std::int64_t>(k))); };
-  for (int k = 0; k <= n; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i)
-        m.Points.insert(m.Points.end(), { double(i) / n, double(j) / n, double(k) / n });
-  static const int perms[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        for (const auto& p : perms)
-        {
-          int c[3] = { i, j, k };
-          std::int64_t v[4];
-          v[0] = id(c[0], c[1], c[2]);
-          for (int s = 0; s < 3; ++s)
-          {
-            ++c[p[s]];
-            v[s + 1] = id(c[0], c[1], c[2]);
-          }
-          if (ar::TetSignedVolume(&m.Points[3 * v[0]], &m.Points[3 * v[1]], &m.Points[3 * v[2]], &m.Points[3 * v[3]]) < 0)
-            std::swap(v[1], v[2]);
-          m.Tetrahedra.insert(m.Tetrahedra.end(), v, v + 4);
-        }
-  return m;
-}
 }
 
 int main(int argc, char* argv[])
@@ -76,7 +49,7 @@ int main(int argc, char* argv[])
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int n : sizes)
   {
-    const ar::TetMesh cube = KuhnCube(n);
+    const ar::TetMesh cube = artest::KuhnCube(n);
     const int m = static_cast<int>(0.8 * n);
     std::vector<double> pts;
     std::vector<std::int64_t> tris;

@@ -10,9 +10,14 @@
 
 #include <tetgen.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <csignal>
+#include <cstring>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -250,7 +255,9 @@ void AddTriangleFacets(tetgenio& in, const std::int64_t* triangles, std::size_t 
 }
 }
 
-bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& options,
+namespace
+{
+bool MeshComplexHere(const PiecewiseLinearComplex& plc, const TetGenOptions& options,
   TetGenResult& out, std::string& error)
 {
   out = TetGenResult();
@@ -346,6 +353,130 @@ bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& o
     {
       out.FaceMarkers[f] = result.trifacemarkerlist[f];
     }
+  }
+  return true;
+}
+
+// ---- Running TetGen in a child process: TetGen can corrupt its heap and
+// crash while cleaning up after an error (seen with two facets 1e-11 apart:
+// a segfault in tetgenmesh::freememory after terminatetetgen), which would
+// take ParaView down with it. The child sends the result through a pipe.
+template <typename T>
+void Put(std::vector<char>& buffer, const std::vector<T>& v)
+{
+  const std::uint64_t n = v.size();
+  const char* p = reinterpret_cast<const char*>(&n);
+  buffer.insert(buffer.end(), p, p + sizeof(n));
+  p = reinterpret_cast<const char*>(v.data());
+  buffer.insert(buffer.end(), p, p + n * sizeof(T));
+}
+
+template <typename T>
+bool Get(const std::vector<char>& buffer, std::size_t& at, std::vector<T>& v)
+{
+  std::uint64_t n = 0;
+  if (at + sizeof(n) > buffer.size())
+  {
+    return false;
+  }
+  std::memcpy(&n, buffer.data() + at, sizeof(n));
+  at += sizeof(n);
+  if (at + n * sizeof(T) > buffer.size())
+  {
+    return false;
+  }
+  v.resize(n);
+  std::memcpy(v.data(), buffer.data() + at, n * sizeof(T));
+  at += n * sizeof(T);
+  return true;
+}
+}
+
+bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& options,
+  TetGenResult& out, std::string& error)
+{
+  out = TetGenResult();
+  int fds[2];
+  if (pipe(fds) != 0)
+  {
+    return MeshComplexHere(plc, options, out, error); // no pipe: run here
+  }
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0)
+  {
+    close(fds[0]);
+    close(fds[1]);
+    return MeshComplexHere(plc, options, out, error);
+  }
+  if (pid == 0)
+  {
+    close(fds[0]);
+    // A crash here is reported by the parent; the host's handlers (ParaView
+    // prints a stack trace) have nothing to add.
+    for (int sig : { SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL })
+    {
+      std::signal(sig, SIG_DFL);
+    }
+    TetGenResult result;
+    std::string message;
+    const bool ok = MeshComplexHere(plc, options, result, message);
+    std::vector<char> buffer;
+    buffer.push_back(ok ? 1 : 0);
+    Put(buffer, std::vector<char>(message.begin(), message.end()));
+    Put(buffer, result.Mesh.Points);
+    Put(buffer, result.Mesh.Tetrahedra);
+    Put(buffer, result.Faces);
+    Put(buffer, result.FaceMarkers);
+    std::size_t sent = 0;
+    while (sent < buffer.size())
+    {
+      const ssize_t w = write(fds[1], buffer.data() + sent, buffer.size() - sent);
+      if (w <= 0)
+      {
+        _exit(2);
+      }
+      sent += static_cast<std::size_t>(w);
+    }
+    close(fds[1]);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::vector<char> buffer;
+  char chunk[1 << 16];
+  for (;;)
+  {
+    const ssize_t r = read(fds[0], chunk, sizeof(chunk));
+    if (r <= 0)
+    {
+      break;
+    }
+    buffer.insert(buffer.end(), chunk, chunk + r);
+  }
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (WIFSIGNALED(status))
+  {
+    error = "TetGen crashed (signal " + std::to_string(WTERMSIG(status)) +
+      ") on this input; the surfaces are probably too close to each other or to the kept mesh.";
+    return false;
+  }
+  std::size_t at = 1;
+  std::vector<char> message;
+  if (buffer.empty() || !Get(buffer, at, message) || !Get(buffer, at, out.Mesh.Points) ||
+    !Get(buffer, at, out.Mesh.Tetrahedra) || !Get(buffer, at, out.Faces) ||
+    !Get(buffer, at, out.FaceMarkers))
+  {
+    error = "TetGen's process ended without a result (exit status " + std::to_string(status) + ").";
+    out = TetGenResult();
+    return false;
+  }
+  if (!buffer[0])
+  {
+    error.assign(message.begin(), message.end());
+    out = TetGenResult();
+    return false;
   }
   return true;
 }

@@ -350,3 +350,20 @@ TEST(SurfaceRemesh, IsotropicAtTheTargetLengthKeepingTheOutline)
   EXPECT_FALSE(ar::RemeshSurfaceIsotropic(nan.Points, nan.Triangles, 0.05, pts, tris, error));
   EXPECT_NE(error.find("non-finite"), std::string::npos) << error;
 }
+
+TEST(Cavity, TetGenFailureIsReportedNotThrown)
+{
+  // Two copies of a patch 1e-11 apart: no crossing (CGAL finds none), but too
+  // close for TetGen, which gives up; the error names TetGen and nothing throws.
+  const ar::TetMesh cube = KuhnCube(8);
+  Surface twin = TiltedPatch();
+  const Surface copy = Grid(10, 10, 0.25, 0.75, 0.25, 0.75, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.5 + 0.2 * (u - 0.5) - 0.1 * (v - 0.5) + 1e-11 };
+  });
+  const auto offset = static_cast<std::int64_t>(twin.Points.size() / 3);
+  twin.Points.insert(twin.Points.end(), copy.Points.begin(), copy.Points.end());
+  for (std::int64_t id : copy.Triangles)
+    twin.Triangles.push_back(id + offset);
+  const std::string e = Refusal(cube, twin);
+  EXPECT_NE(e.find("TetGen"), std::string::npos) << e;
+}

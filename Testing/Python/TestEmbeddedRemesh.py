@@ -8,8 +8,8 @@ Gmsh tetrahedra with real feature surfaces:
   points equal to the input's exactly; every new cell's smallest dihedral
   angle at least 10 degrees;
 - bad input: an empty surface, a surface outside the domain, two surfaces
-  crossing, an inverted cell, a mesh without tetrahedra: an error naming the
-  problem and the input passed through unchanged.
+  crossing, a TetGen failure, an inverted cell, a mesh without tetrahedra: an
+  error naming the problem and the input passed through unchanged.
 """
 import os
 
@@ -146,6 +146,12 @@ crossing = Transform(Input=plane)
 crossing.Transform.Rotate = [0.0, 0.0, 90.0]
 crossing.Transform.Translate = [1.0, 0.0, 0.0]
 refused(oblique, [plane, crossing], "intersects itself", "two surfaces crossing")
+# Two copies of the plane 1e-11 apart: nothing crosses, but TetGen fails on
+# them (it crashes while cleaning up; it runs in a child process, so the
+# error is reported and ParaView lives on).
+twin = Transform(Input=plane)
+twin.Transform.Translate = [0.0, 0.0, 1e-11]
+refused(oblique, [plane, twin], "TetGen", "a TetGen failure (two sheets 1e-11 apart)")
 # An inverted cell: the first tetrahedron's corners swapped, in a file.
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
 bad = artest.fetch(oblique).VTKObject.NewInstance()

@@ -34,6 +34,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkSmoothPolyDataFilter.h"
 #include "vtkTriangle.h"
+#include "vtkTriangleFilter.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWindowedSincPolyDataFilter.h"
 
@@ -650,8 +651,14 @@ int vtkMedialAxisDelaunay::RequestData(
     vtkNew<vtkFillHolesFilter> fill;
     fill->SetInputData(result);
     fill->SetHoleSize(this->MaximumHoleSize * medianEdge);
-    fill->Update();
-    vtkPolyData* filled = fill->GetOutput();
+    // The patches are polygons, one per hole: triangulate them (the input's
+    // triangles come first, in order).
+    vtkNew<vtkTriangleFilter> triangulate;
+    triangulate->SetInputConnection(fill->GetOutputPort());
+    triangulate->PassVertsOff();
+    triangulate->PassLinesOff();
+    triangulate->Update();
+    vtkPolyData* filled = triangulate->GetOutput();
     const vtkIdType nNew = filled->GetNumberOfCells();
     if (nNew > nTri)
     {

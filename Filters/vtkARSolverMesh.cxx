@@ -9,9 +9,11 @@
 #include "vtkDataSet.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
+#include "vtkErrorCode.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkInformation.h"
+#include "vtkMultiProcessController.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPartitionedDataSet.h"
@@ -763,4 +765,31 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     progress->UpdateProgress(0.5);
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+unsigned long vtkARSolverMesh::Prepare(vtkAlgorithm* writer, const char* label,
+  const std::string& path, vtkDataObject* input, const char* defaultPatchName, double tolerance,
+  vtkARSolverMesh& mesh)
+{
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    vtkErrorWithObjectMacro(writer, << label << ": runs serially; with "
+                                    << controller->GetNumberOfProcesses()
+                                    << " MPI ranks nothing is written to '" << path << "'.");
+    return vtkErrorCode::UnknownError;
+  }
+  std::string error;
+  if (!mesh.Build(input, defaultPatchName ? defaultPatchName : "", tolerance, writer, error))
+  {
+    vtkErrorWithObjectMacro(
+      writer, << label << ": " << error << "; nothing is written to '" << path << "'.");
+    return vtkErrorCode::FileFormatError;
+  }
+  if (!mesh.Warnings.empty())
+  {
+    vtkWarningWithObjectMacro(writer, << label << " (" << path << "):\n" << mesh.Warnings);
+  }
+  return vtkErrorCode::NoError;
 }

@@ -91,6 +91,13 @@ public:
   /// not empty. Returns the cleaned name (and says so in Warnings).
   static std::string CleanName(const std::string& name, const std::string& fallback);
 
+  /// The common start of a writer's WriteData: refuses to run on more than
+  /// one MPI rank, builds `mesh` from `input` and reports errors and warnings
+  /// on `writer` (prefixed by `label`). Returns the vtkErrorCode the writer
+  /// should set (NoError when the mesh is ready).
+  static unsigned long Prepare(vtkAlgorithm* writer, const char* label, const std::string& path,
+    vtkDataObject* input, const char* defaultPatchName, double tolerance, vtkARSolverMesh& mesh);
+
   /// Writes `path` through a temporary file renamed at the end. `body`
   /// streams the content and returns false (with `error`) to abandon.
   static bool WriteAtomically(const std::string& path,

@@ -6,7 +6,6 @@
 #include "vtkCellType.h"
 #include "vtkErrorCode.h"
 #include "vtkInformation.h"
-#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 
 #include <string>
@@ -36,27 +35,13 @@ void vtkGmshWriter::WriteData()
 {
   this->SetErrorCode(vtkErrorCode::NoError);
   const std::string path = this->FileName ? this->FileName : "";
-  auto* controller = vtkMultiProcessController::GetGlobalController();
-  if (controller && controller->GetNumberOfProcesses() > 1)
-  {
-    vtkErrorMacro("GmshWriter: runs serially; with " << controller->GetNumberOfProcesses()
-                                                     << " MPI ranks nothing is written to '"
-                                                     << path << "'.");
-    this->SetErrorCode(vtkErrorCode::UnknownError);
-    return;
-  }
   vtkARSolverMesh mesh;
-  std::string error;
-  if (!mesh.Build(this->GetInput(), this->DefaultPatchName ? this->DefaultPatchName : "",
-        this->PointMatchingTolerance, this, error))
+  const unsigned long code = vtkARSolverMesh::Prepare(this, "GmshWriter", path, this->GetInput(),
+    this->DefaultPatchName, this->PointMatchingTolerance, mesh);
+  if (code != vtkErrorCode::NoError)
   {
-    vtkErrorMacro("GmshWriter: " << error << "; nothing is written to '" << path << "'.");
-    this->SetErrorCode(vtkErrorCode::FileFormatError);
+    this->SetErrorCode(code);
     return;
-  }
-  if (!mesh.Warnings.empty())
-  {
-    vtkWarningMacro("GmshWriter (" << path << "):\n" << mesh.Warnings);
   }
   const std::string volumeName =
     vtkARSolverMesh::CleanName(this->VolumeName ? this->VolumeName : "", "fluid");
@@ -154,6 +139,7 @@ void vtkGmshWriter::WriteData()
     s += "$EndElements\n";
     return flush(true);
   };
+  std::string error;
   if (!vtkARSolverMesh::WriteAtomically(path, body, error))
   {
     vtkErrorMacro("GmshWriter: " << error << "; nothing is written to '" << path << "'.");

@@ -6,7 +6,6 @@
 #include "vtkCellType.h"
 #include "vtkErrorCode.h"
 #include "vtkInformation.h"
-#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 
 #include <string>
@@ -34,27 +33,13 @@ void vtkSU2Writer::WriteData()
 {
   this->SetErrorCode(vtkErrorCode::NoError);
   const std::string path = this->FileName ? this->FileName : "";
-  auto* controller = vtkMultiProcessController::GetGlobalController();
-  if (controller && controller->GetNumberOfProcesses() > 1)
-  {
-    vtkErrorMacro("SU2Writer: runs serially; with " << controller->GetNumberOfProcesses()
-                                                    << " MPI ranks nothing is written to '"
-                                                    << path << "'.");
-    this->SetErrorCode(vtkErrorCode::UnknownError);
-    return;
-  }
   vtkARSolverMesh mesh;
-  std::string error;
-  if (!mesh.Build(this->GetInput(), this->DefaultPatchName ? this->DefaultPatchName : "",
-        this->PointMatchingTolerance, this, error))
+  const unsigned long code = vtkARSolverMesh::Prepare(this, "SU2Writer", path, this->GetInput(),
+    this->DefaultPatchName, this->PointMatchingTolerance, mesh);
+  if (code != vtkErrorCode::NoError)
   {
-    vtkErrorMacro("SU2Writer: " << error << "; nothing is written to '" << path << "'.");
-    this->SetErrorCode(vtkErrorCode::FileFormatError);
+    this->SetErrorCode(code);
     return;
-  }
-  if (!mesh.Warnings.empty())
-  {
-    vtkWarningMacro("SU2Writer (" << path << "):\n" << mesh.Warnings);
   }
 
   auto body = [&](std::ostream& out, std::string& err) {
@@ -127,6 +112,7 @@ void vtkSU2Writer::WriteData()
     }
     return flush(true);
   };
+  std::string error;
   if (!vtkARSolverMesh::WriteAtomically(path, body, error))
   {
     vtkErrorMacro("SU2Writer: " << error << "; nothing is written to '" << path << "'.");

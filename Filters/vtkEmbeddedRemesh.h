@@ -108,6 +108,10 @@ protected:
   /// The remeshing of one volume mesh (the whole input, or a multiblock's volume leaf).
   int RemeshVolume(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces,
     vtkUnstructuredGrid* output, vtkPolyData* embedded);
+  /// The LocalCavity remesh of a distributed volume (MPI, more than one
+  /// rank): the cavity is gathered to rank 0, the far field stays. Collective.
+  int RemeshDistributed(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces,
+    vtkUnstructuredGrid* output, vtkPolyData* embedded);
 
 private:
   vtkEmbeddedRemesh(const vtkEmbeddedRemesh&) = delete;

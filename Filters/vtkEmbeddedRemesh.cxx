@@ -161,6 +161,15 @@ int vtkEmbeddedRemesh::RequestData(
     }
   }
   vtkNew<vtkUnstructuredGrid> remeshed;
+  double missing = volume ? 0.0 : 1.0; // the distributed remesh is collective: all or none
+  vtkARMeshKernels::AllReduceMax(&missing, 1);
+  if (volume && missing > 0.0)
+  {
+    vtkErrorMacro(<< "The multiblock input has no volume block on another rank; EmbeddedRemesh "
+                     "under MPI needs the volume on every rank. The input passes through unchanged.");
+    output->ShallowCopy(input);
+    return 1;
+  }
   if (!volume)
   {
     vtkErrorMacro(<< "The multiblock input has no block with 3-D cells (e.g. internalMesh). The "

@@ -6,6 +6,7 @@
 #include "ARTetGeometry.h"
 #include "vtkARMeshKernels.h"
 
+#include "vtkAppendFilter.h"
 #include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -14,7 +15,10 @@
 #include "vtkCompositeDataSet.h"
 #include "vtkDataObjectTreeIterator.h"
 #include "vtkDataSet.h"
+#include "vtkDataSetAttributesFieldList.h"
 #include "vtkDoubleArray.h"
+#include "vtkExtractCells.h"
+#include "vtkIdTypeArray.h"
 #include "vtkFieldData.h"
 #include "vtkGenericCell.h"
 #include "vtkGeometryFilter.h"
@@ -22,6 +26,8 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkMultiProcessController.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -33,9 +39,13 @@
 #include "vtkStaticCleanPolyData.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkTriangleFilter.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
+#include <set>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -151,6 +161,15 @@ int vtkEmbeddedRemesh::RequestData(
     }
   }
   vtkNew<vtkUnstructuredGrid> remeshed;
+  double missing = volume ? 0.0 : 1.0; // the distributed remesh is collective: all or none
+  vtkARMeshKernels::AllReduceMax(&missing, 1);
+  if (volume && missing > 0.0)
+  {
+    vtkErrorMacro(<< "The multiblock input has no volume block on another rank; EmbeddedRemesh "
+                     "under MPI needs the volume on every rank. The input passes through unchanged.");
+    output->ShallowCopy(input);
+    return 1;
+  }
   if (!volume)
   {
     vtkErrorMacro(<< "The multiblock input has no block with 3-D cells (e.g. internalMesh). The "
@@ -188,8 +207,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   };
   if (vtkARMeshKernels::NumberOfRanks() > 1)
   {
-    return passThrough("EmbeddedRemesh does not run on distributed data yet (gather the mesh "
-                       "to one rank first, e.g. with Merge Blocks on a single-rank session).");
+    return this->RemeshDistributed(input, surfaces, output, embedded);
   }
   if (!input || input->GetNumberOfCells() == 0)
   {
@@ -535,6 +553,754 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     faces->InsertNextCell(3, tri);
   }
   embedded->SetPoints(points);
+  embedded->SetPolys(faces);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+using Coord = std::array<double, 3>;
+constexpr int TetFace[4][3] = { { 1, 2, 3 }, { 0, 3, 2 }, { 0, 1, 3 }, { 0, 2, 1 } };
+
+/// Doubles from every rank, concatenated in rank order, on every rank.
+std::vector<double> AllGatherDoubles(vtkMultiProcessController* ctrl, const std::vector<double>& local)
+{
+  vtkNew<vtkDoubleArray> send, recv;
+  send->SetNumberOfTuples(static_cast<vtkIdType>(local.size()));
+  std::copy(local.begin(), local.end(), send->GetPointer(0));
+  ctrl->AllGatherV(send, recv);
+  return std::vector<double>(recv->GetPointer(0), recv->GetPointer(0) + recv->GetNumberOfTuples());
+}
+
+/// Rank 0's doubles on every rank.
+void BroadcastDoubles(vtkMultiProcessController* ctrl, std::vector<double>& data)
+{
+  vtkIdType n = static_cast<vtkIdType>(data.size());
+  ctrl->Broadcast(&n, 1, 0);
+  data.resize(n);
+  if (n > 0)
+  {
+    ctrl->Broadcast(data.data(), n, 0);
+  }
+}
+}
+
+int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
+  const std::vector<vtkDataSet*>& surfaces, vtkUnstructuredGrid* output, vtkPolyData* embedded)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  const int rank = ctrl->GetLocalProcessId();
+  // Every failure is agreed on by all ranks before anyone returns, so that
+  // the collective calls stay matched.
+  std::string problem;
+  auto failed = [&]() {
+    double bad = problem.empty() ? 0.0 : 1.0;
+    vtkARMeshKernels::AllReduceMax(&bad, 1);
+    return bad > 0.0;
+  };
+  auto passThrough = [&]() {
+    vtkErrorMacro(<< (problem.empty() ? std::string("EmbeddedRemesh failed on another rank.") : problem)
+                  << " The input passes through unchanged.");
+    output->ShallowCopy(input);
+    return 1;
+  };
+  if (this->Mode == FULL_DOMAIN)
+  {
+    problem = "EmbeddedRemesh: FullDomain does not run on distributed data (it would move the "
+              "whole mesh to one rank); use LocalCavity, or run FullDomain on one rank.";
+    return passThrough();
+  }
+
+  // ---- This rank's tetrahedra, owned and ghost (the ghosts complete l_v).
+  const vtkIdType nPoints = input->GetNumberOfPoints();
+  vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
+  ar::TetMesh V;
+  V.Points.resize(3 * nPoints);
+  for (vtkIdType i = 0; i < nPoints; ++i)
+  {
+    input->GetPoint(i, &V.Points[3 * i]);
+  }
+  std::vector<vtkIdType> tetCell;
+  std::vector<char> owned;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < input->GetNumberOfCells() && problem.empty(); ++c)
+  {
+    const bool ghost = ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL);
+    if (input->GetCellType(c) != VTK_TETRA)
+    {
+      problem = "EmbeddedRemesh under MPI takes tetrahedral meshes only (cell " + std::to_string(c) +
+        " has type " + std::to_string(input->GetCellType(c)) +
+        "); remesh hybrid or patch-carrying meshes on one rank.";
+      break;
+    }
+    input->GetCellPoints(c, ids);
+    for (vtkIdType k = 0; k < 4; ++k)
+    {
+      V.Tetrahedra.push_back(ids->GetId(k));
+    }
+    tetCell.push_back(c);
+    owned.push_back(ghost ? 0 : 1);
+  }
+  if (failed())
+  {
+    return passThrough();
+  }
+  const std::size_t nT = tetCell.size();
+  double nOwned = static_cast<double>(std::count(owned.begin(), owned.end(), 1));
+  vtkARMeshKernels::AllReduceSum(&nOwned, 1);
+  if (nOwned == 0)
+  {
+    problem = "The volume mesh is empty.";
+    return passThrough();
+  }
+
+  // ---- S: the surface pieces gathered to rank 0, merged there.
+  vtkNew<vtkAppendPolyData> append;
+  for (vtkDataSet* ds : surfaces)
+  {
+    if (!ds || ds->GetNumberOfCells() == 0)
+    {
+      continue;
+    }
+    vtkNew<vtkGeometryFilter> geometry;
+    geometry->SetInputData(ds);
+    vtkNew<vtkTriangleFilter> triangles;
+    triangles->SetInputConnection(geometry->GetOutputPort());
+    triangles->PassVertsOff();
+    triangles->PassLinesOff();
+    triangles->Update();
+    vtkNew<vtkPolyData> bare;
+    bare->SetPoints(triangles->GetOutput()->GetPoints());
+    bare->SetPolys(triangles->GetOutput()->GetPolys());
+    append->AddInputData(bare);
+  }
+  vtkNew<vtkPolyData> localSurface;
+  if (append->GetNumberOfInputConnections(0) > 0)
+  {
+    append->Update();
+    localSurface->ShallowCopy(append->GetOutput());
+  }
+  vtkSmartPointer<vtkPolyData> gathered = vtkARMeshKernels::GatherPolyData(localSurface, 0.0, false);
+  std::vector<double> sPoints, sTris; // triangles as doubles, for the broadcast
+  if (rank == 0 && gathered->GetNumberOfCells() > 0)
+  {
+    vtkNew<vtkStaticCleanPolyData> clean;
+    clean->SetInputData(gathered);
+    clean->SetTolerance(0.0);
+    clean->Update();
+    vtkPolyData* surface = clean->GetOutput();
+    sPoints.resize(3 * surface->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
+    {
+      surface->GetPoint(i, &sPoints[3 * i]);
+    }
+    vtkIdType npts;
+    const vtkIdType* pts;
+    vtkCellArray* polys = surface->GetPolys();
+    for (polys->InitTraversal(); polys->GetNextCell(npts, pts);)
+    {
+      if (npts == 3)
+      {
+        sTris.insert(sTris.end(), { double(pts[0]), double(pts[1]), double(pts[2]) });
+      }
+    }
+  }
+  BroadcastDoubles(ctrl, sPoints);
+  BroadcastDoubles(ctrl, sTris);
+  if (sTris.empty())
+  {
+    problem = "The feature surface is empty (no Surfaces connected, or none has triangles).";
+    return passThrough();
+  }
+  this->UpdateProgress(0.1);
+
+  // ---- l_v (complete at the nodes of owned cells, thanks to the ghosts).
+  std::vector<double> lv(nPoints, 0.0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const std::int64_t* v = &V.Tetrahedra[4 * t];
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = a + 1; b < 4; ++b)
+      {
+        const double* p = &V.Points[3 * v[a]];
+        const double* q = &V.Points[3 * v[b]];
+        const double l = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+          (p[2] - q[2]) * (p[2] - q[2]));
+        lv[v[a]] = std::max(lv[v[a]], l);
+        lv[v[b]] = std::max(lv[v[b]], l);
+      }
+    }
+  }
+  std::vector<char> ownedNode(nPoints, 0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    for (int k = 0; owned[t] && k < 4; ++k)
+    {
+      ownedNode[V.Tetrahedra[4 * t + k]] = 1;
+    }
+  }
+
+  // ---- The edge length: the median l_v at the mesh node nearest to each
+  // S point (the nearest over all ranks' owned nodes), as in serial.
+  double edge = this->SurfaceEdgeLength;
+  const std::size_t nS = sPoints.size() / 3;
+  if (edge <= 0.0)
+  {
+    vtkNew<vtkPoints> candidates;
+    candidates->SetDataTypeToDouble();
+    std::vector<vtkIdType> candidateNode;
+    for (vtkIdType i = 0; i < nPoints; ++i)
+    {
+      if (ownedNode[i])
+      {
+        candidates->InsertNextPoint(&V.Points[3 * i]);
+        candidateNode.push_back(i);
+      }
+    }
+    std::vector<double> mine(2 * nS, 0.0); // squared distance, l_v
+    if (!candidateNode.empty())
+    {
+      vtkNew<vtkPolyData> cloud;
+      cloud->SetPoints(candidates);
+      vtkNew<vtkStaticPointLocator> locator;
+      locator->SetDataSet(cloud);
+      locator->BuildLocator();
+      for (std::size_t i = 0; i < nS; ++i)
+      {
+        const vtkIdType j = candidateNode[locator->FindClosestPoint(&sPoints[3 * i])];
+        mine[2 * i] = vtkMath::Distance2BetweenPoints(&sPoints[3 * i], &V.Points[3 * j]);
+        mine[2 * i + 1] = lv[j];
+      }
+    }
+    else
+    {
+      for (std::size_t i = 0; i < nS; ++i)
+      {
+        mine[2 * i] = VTK_DOUBLE_MAX;
+      }
+    }
+    const std::vector<double> all = AllGatherDoubles(ctrl, mine);
+    std::vector<double> near;
+    for (std::size_t i = 0; i < nS; ++i)
+    {
+      double best = VTK_DOUBLE_MAX, size = 0.0;
+      for (std::size_t r = 0; r < all.size() / (2 * nS); ++r)
+      {
+        const double* e = &all[2 * (r * nS + i)];
+        if (e[0] < best)
+        {
+          best = e[0];
+          size = e[1];
+        }
+      }
+      if (size > 0.0)
+      {
+        near.push_back(size);
+      }
+    }
+    if (near.empty())
+    {
+      problem = "Could not find the mesh size near the feature surface; set SurfaceEdgeLength.";
+      return passThrough();
+    }
+    std::nth_element(near.begin(), near.begin() + near.size() / 2, near.end());
+    edge = near[near.size() / 2];
+  }
+
+  // ---- S remeshed on rank 0, sent to every rank.
+  std::vector<double> rPoints;
+  std::vector<std::int64_t> rTris;
+  std::vector<double> rTrisD;
+  std::string error;
+  if (rank == 0)
+  {
+    std::vector<std::int64_t> tris(sTris.begin(), sTris.end());
+    if (!ar::RemeshSurfaceIsotropic(sPoints, tris, edge, rPoints, rTris, error))
+    {
+      vtkWarningMacro(<< "The feature surface is used as it is (not remeshed): " << error);
+      rPoints = sPoints;
+      rTris = tris;
+    }
+    rTrisD.assign(rTris.begin(), rTris.end());
+  }
+  BroadcastDoubles(ctrl, rPoints);
+  BroadcastDoubles(ctrl, rTrisD);
+  rTris.assign(rTrisD.begin(), rTrisD.end());
+  this->UpdateProgress(0.3);
+
+  // ---- The domain boundary: owned faces with no neighbour among this
+  // rank's owned and ghost cells, from every rank.
+  std::vector<double> boundary;
+  {
+    std::map<std::array<std::int64_t, 3>, std::pair<int, std::size_t>> faces; // count, 4 t + f
+    for (std::size_t t = 0; t < nT; ++t)
+    {
+      for (int f = 0; f < 4; ++f)
+      {
+        std::array<std::int64_t, 3> key;
+        for (int k = 0; k < 3; ++k)
+        {
+          key[k] = V.Tetrahedra[4 * t + TetFace[f][k]];
+        }
+        std::sort(key.begin(), key.end());
+        auto& e = faces[key];
+        ++e.first;
+        e.second = 4 * t + f;
+      }
+    }
+    std::vector<double> mine;
+    for (const auto& e : faces)
+    {
+      const std::size_t t = e.second.second / 4;
+      const int f = static_cast<int>(e.second.second % 4);
+      if (e.second.first == 1 && owned[t])
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          const double* x = &V.Points[3 * V.Tetrahedra[4 * t + TetFace[f][k]]];
+          mine.insert(mine.end(), x, x + 3);
+        }
+      }
+    }
+    boundary = AllGatherDoubles(ctrl, mine);
+  }
+
+  // ---- Removal flags at this rank's nodes; the cavity: owned cells at removed nodes.
+  ar::CavityOptions options;
+  options.RemovalFactor = this->RemovalFactor;
+  options.VisibilityTest = this->VisibilityTest;
+  options.BoundaryMargin = this->BoundaryMargin;
+  options.Quality.MaxRadiusEdgeRatio = this->MaxRadiusEdgeRatio;
+  options.Quality.MinDihedralAngle = this->MinDihedralAngle;
+  options.BoundaryTriangles = boundary;
+  std::vector<std::uint8_t> removed;
+  if (!ar::ComputeRemovedNodes(V, rPoints.data(), rPoints.size() / 3, rTris.data(), rTris.size() / 3,
+        options, removed, error))
+  {
+    problem = "EmbeddedRemesh: " + error;
+  }
+  if (failed())
+  {
+    return passThrough();
+  }
+  std::vector<char> cavity(nT, 0), selected(nT, 0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    for (int k = 0; owned[t] && k < 4; ++k)
+    {
+      cavity[t] = cavity[t] || removed[V.Tetrahedra[4 * t + k]];
+    }
+  }
+  double nCavity = static_cast<double>(std::count(cavity.begin(), cavity.end(), 1));
+  vtkARMeshKernels::AllReduceSum(&nCavity, 1);
+  if (nCavity == 0)
+  {
+    problem = "EmbeddedRemesh: no node of the volume mesh lies near the feature surface: nothing to remesh.";
+    return passThrough();
+  }
+  // Three node rings of kept cells around it, over all ranks (by coordinates):
+  // the refill may grow the cavity twice at forced slivers and needs the
+  // cells around the grown cavity's nodes.
+  selected = cavity;
+  for (int ring = 0; ring < 3; ++ring)
+  {
+    std::vector<char> mark(nPoints, 0);
+    std::vector<double> mine;
+    for (std::size_t t = 0; t < nT; ++t)
+    {
+      for (int k = 0; selected[t] && k < 4; ++k)
+      {
+        const std::int64_t v = V.Tetrahedra[4 * t + k];
+        if (!mark[v])
+        {
+          mark[v] = 1;
+          mine.insert(mine.end(), &V.Points[3 * v], &V.Points[3 * v] + 3);
+        }
+      }
+    }
+    const std::vector<double> all = AllGatherDoubles(ctrl, mine);
+    std::set<Coord> nodes;
+    for (std::size_t k = 0; k < all.size(); k += 3)
+    {
+      nodes.insert(Coord{ all[k], all[k + 1], all[k + 2] });
+    }
+    for (vtkIdType v = 0; v < nPoints; ++v)
+    {
+      mark[v] = nodes.count(Coord{ V.Points[3 * v], V.Points[3 * v + 1], V.Points[3 * v + 2] }) ? 1 : 0;
+    }
+    for (std::size_t t = 0; t < nT; ++t)
+    {
+      for (int k = 0; owned[t] && !selected[t] && k < 4; ++k)
+      {
+        selected[t] = mark[V.Tetrahedra[4 * t + k]];
+      }
+    }
+  }
+
+  // ---- The selected cells (with their fields) to rank 0.
+  vtkNew<vtkUnstructuredGrid> tagged;
+  tagged->ShallowCopy(input);
+  vtkNew<vtkUnsignedCharArray> cavityArray;
+  cavityArray->SetName("ARCavity");
+  cavityArray->SetNumberOfTuples(input->GetNumberOfCells());
+  cavityArray->FillValue(0);
+  vtkNew<vtkIdTypeArray> source;
+  source->SetName("ARSource"); // rank, cell
+  source->SetNumberOfComponents(2);
+  source->SetNumberOfTuples(input->GetNumberOfCells());
+  vtkNew<vtkIdList> pick;
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    cavityArray->SetValue(tetCell[t], cavity[t]);
+    source->SetTypedComponent(tetCell[t], 0, rank);
+    source->SetTypedComponent(tetCell[t], 1, tetCell[t]);
+    if (selected[t])
+    {
+      pick->InsertNextId(tetCell[t]);
+    }
+  }
+  tagged->GetCellData()->AddArray(cavityArray);
+  tagged->GetCellData()->AddArray(source);
+  tagged->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  tagged->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  vtkNew<vtkExtractCells> extract;
+  extract->SetInputData(tagged);
+  extract->SetCellList(pick);
+  extract->Update();
+  vtkNew<vtkUnstructuredGrid> part;
+  part->ShallowCopy(extract->GetOutput());
+  part->GetPointData()->RemoveArray("vtkOriginalPointIds");
+  part->GetCellData()->RemoveArray("vtkOriginalCellIds");
+  std::vector<vtkSmartPointer<vtkDataObject>> parts;
+  ctrl->Gather(part, parts, 0);
+
+  // ---- Rank 0 refills the gathered cavity.
+  vtkNew<vtkUnstructuredGrid> G; // the gathered cells, points merged
+  ar::CavityRemesh result;
+  std::vector<double> removedCells; // rank, cell of every gathered cell that goes
+  if (rank == 0)
+  {
+    vtkNew<vtkAppendFilter> merge;
+    merge->MergePointsOn();
+    merge->SetTolerance(0.0);
+    for (auto& piece : parts)
+    {
+      auto* grid = vtkUnstructuredGrid::SafeDownCast(piece);
+      if (grid && grid->GetNumberOfCells() > 0)
+      {
+        merge->AddInputData(grid);
+      }
+    }
+    merge->Update();
+    G->ShallowCopy(merge->GetOutput());
+    ar::TetMesh gathered;
+    gathered.Points.resize(3 * G->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < G->GetNumberOfPoints(); ++i)
+    {
+      G->GetPoint(i, &gathered.Points[3 * i]);
+    }
+    auto* flags = vtkUnsignedCharArray::SafeDownCast(G->GetCellData()->GetArray("ARCavity"));
+    for (vtkIdType c = 0; c < G->GetNumberOfCells(); ++c)
+    {
+      G->GetCellPoints(c, ids);
+      for (vtkIdType k = 0; k < 4; ++k)
+      {
+        gathered.Tetrahedra.push_back(ids->GetId(k));
+      }
+      options.CavityCells.push_back(flags ? flags->GetValue(c) : 0);
+    }
+    if (!ar::RemeshLocalCavity(gathered, rPoints.data(), rPoints.size() / 3, rTris.data(),
+          rTris.size() / 3, options, result, error))
+    {
+      problem = "EmbeddedRemesh: " + error;
+    }
+    else
+    {
+      std::vector<char> kept(G->GetNumberOfCells(), 0);
+      for (std::int64_t c : result.SourceCell)
+      {
+        if (c >= 0)
+        {
+          kept[c] = 1;
+        }
+      }
+      auto* src = vtkIdTypeArray::SafeDownCast(G->GetCellData()->GetArray("ARSource"));
+      for (vtkIdType c = 0; c < G->GetNumberOfCells(); ++c)
+      {
+        if (!kept[c])
+        {
+          removedCells.push_back(static_cast<double>(src->GetTypedComponent(c, 0)));
+          removedCells.push_back(static_cast<double>(src->GetTypedComponent(c, 1)));
+        }
+      }
+    }
+  }
+  if (failed())
+  {
+    return passThrough();
+  }
+  BroadcastDoubles(ctrl, removedCells);
+  this->UpdateProgress(0.8);
+
+  // ---- Output: this rank's kept owned cells; rank 0 adds the new ones.
+  std::vector<char> gone(input->GetNumberOfCells(), 0);
+  for (std::size_t k = 0; k < removedCells.size(); k += 2)
+  {
+    if (static_cast<int>(removedCells[k]) == rank)
+    {
+      gone[static_cast<vtkIdType>(removedCells[k + 1])] = 1;
+    }
+  }
+  std::vector<vtkIdType> outOfInput(nPoints, -1);
+  std::vector<vtkIdType> pointSource; // input point of each output point, -1: from G (rank 0)
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    for (int k = 0; owned[t] && !gone[tetCell[t]] && k < 4; ++k)
+    {
+      const std::int64_t v = V.Tetrahedra[4 * t + k];
+      if (outOfInput[v] < 0)
+      {
+        outOfInput[v] = 0;
+      }
+    }
+  }
+  std::map<Coord, vtkIdType> byCoord;
+  for (vtkIdType v = 0; v < nPoints; ++v)
+  {
+    if (outOfInput[v] == 0)
+    {
+      outOfInput[v] = points->InsertNextPoint(&V.Points[3 * v]);
+      pointSource.push_back(v);
+      if (rank == 0)
+      {
+        byCoord[Coord{ V.Points[3 * v], V.Points[3 * v + 1], V.Points[3 * v + 2] }] = outOfInput[v];
+      }
+    }
+  }
+  // Rank 0: the result's points in the output (kept input points by
+  // coordinates, the others appended with their G point or -1 when new).
+  std::vector<vtkIdType> outOfResult(result.SourcePoint.size(), -1), gSource;
+  std::vector<char> needed(result.SourcePoint.size(), 0);
+  for (std::size_t t = 0; t < result.SourceCell.size(); ++t)
+  {
+    for (int k = 0; result.SourceCell[t] < 0 && k < 4; ++k)
+    {
+      needed[result.Mesh.Tetrahedra[4 * t + k]] = 1;
+    }
+  }
+  const vtkIdType nInputOut = points->GetNumberOfPoints();
+  for (std::size_t i = 0; i < result.SourcePoint.size(); ++i)
+  {
+    if (!needed[i])
+    {
+      continue;
+    }
+    const double* x = &result.Mesh.Points[3 * i];
+    auto it = byCoord.find(Coord{ x[0], x[1], x[2] });
+    if (it != byCoord.end())
+    {
+      outOfResult[i] = it->second;
+      continue;
+    }
+    outOfResult[i] = points->InsertNextPoint(x);
+    gSource.push_back(result.SourcePoint[i]);
+  }
+  const vtkIdType nOut = points->GetNumberOfPoints();
+
+  output->Initialize();
+  output->GetFieldData()->ShallowCopy(input->GetFieldData());
+  output->SetPoints(points);
+  output->Allocate(static_cast<vtkIdType>(nT + result.SourceCell.size()));
+  std::vector<vtkIdType> cellSource; // input cell of each output cell; -1: new
+  vtkNew<vtkIntArray> region;
+  region->SetName("Region");
+  vtkNew<vtkDoubleArray> minAngle;
+  minAngle->SetName("MinDihedralAngle");
+  double stats[4] = { 0.0, 0.0, 180.0, 0.0 }; // kept, new, min new, sum new
+  double volumes[2] = { 0.0, 0.0 };            // before, after
+  auto addTet = [&](const vtkIdType pts[4], vtkIdType src) {
+    output->InsertNextCell(VTK_TETRA, 4, pts);
+    double x[4][3];
+    for (int k = 0; k < 4; ++k)
+    {
+      points->GetPoint(pts[k], x[k]);
+    }
+    double a[6];
+    ar::TetDihedralAngles(x[0], x[1], x[2], x[3], a);
+    const double m = *std::min_element(a, a + 6);
+    minAngle->InsertNextValue(m);
+    region->InsertNextValue(src >= 0 ? 0 : 1);
+    cellSource.push_back(src);
+    volumes[1] += ar::TetSignedVolume(x[0], x[1], x[2], x[3]);
+    if (src >= 0)
+    {
+      stats[0] += 1.0;
+    }
+    else
+    {
+      stats[1] += 1.0;
+      stats[2] = std::min(stats[2], m);
+      stats[3] += m;
+    }
+  };
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    if (!owned[t])
+    {
+      continue;
+    }
+    const std::int64_t* v = &V.Tetrahedra[4 * t];
+    volumes[0] += ar::TetSignedVolume(&V.Points[3 * v[0]], &V.Points[3 * v[1]], &V.Points[3 * v[2]], &V.Points[3 * v[3]]);
+    if (gone[tetCell[t]])
+    {
+      continue;
+    }
+    const vtkIdType pts[4] = { outOfInput[v[0]], outOfInput[v[1]], outOfInput[v[2]], outOfInput[v[3]] };
+    addTet(pts, tetCell[t]);
+  }
+  std::vector<vtkIdType> newCellOfResult(result.SourceCell.size(), -1);
+  for (std::size_t t = 0; t < result.SourceCell.size(); ++t)
+  {
+    if (result.SourceCell[t] < 0)
+    {
+      const std::int64_t* v = &result.Mesh.Tetrahedra[4 * t];
+      const vtkIdType pts[4] = { outOfResult[v[0]], outOfResult[v[1]], outOfResult[v[2]], outOfResult[v[3]] };
+      newCellOfResult[t] = static_cast<vtkIdType>(cellSource.size());
+      addTet(pts, -1);
+    }
+  }
+
+  // ---- Fields: kept points and cells copy theirs; new ones interpolate in
+  // the gathered cavity cells (rank 0), as the serial run does in the input.
+  if (this->InterpolateFields)
+  {
+    vtkPointData* inPD = input->GetPointData();
+    vtkCellData* inCD = input->GetCellData();
+    vtkPointData* outPD = output->GetPointData();
+    vtkCellData* outCD = output->GetCellData();
+    vtkDataSetAttributes::FieldList pointList(rank == 0 ? 2 : 1), cellList(rank == 0 ? 2 : 1);
+    pointList.InitializeFieldList(inPD);
+    cellList.InitializeFieldList(inCD);
+    if (rank == 0)
+    {
+      pointList.IntersectFieldList(G->GetPointData());
+      cellList.IntersectFieldList(G->GetCellData());
+    }
+    outPD->InterpolateAllocate(pointList, nOut);
+    outCD->CopyAllocate(cellList, static_cast<vtkIdType>(cellSource.size()));
+    for (vtkIdType i = 0; i < nInputOut; ++i)
+    {
+      outPD->CopyData(pointList, inPD, 0, pointSource[i], i);
+    }
+    vtkSmartPointer<vtkStaticCellLocator> cells;
+    vtkNew<vtkGenericCell> cell;
+    std::vector<double> weights(VTK_CELL_SIZE);
+    double pcoords[3];
+    int subId;
+    if (rank == 0 && G->GetNumberOfCells() > 0)
+    {
+      cells = vtkSmartPointer<vtkStaticCellLocator>::New();
+      cells->SetDataSet(G);
+      cells->BuildLocator();
+    }
+    const double tol2 = 1e-12 * (rank == 0 ? G->GetLength2() : 1.0);
+    for (vtkIdType i = nInputOut; i < nOut; ++i)
+    {
+      const std::int64_t g = gSource[i - nInputOut];
+      if (g >= 0)
+      {
+        outPD->CopyData(pointList, G->GetPointData(), 1, g, i);
+        continue;
+      }
+      double x[3];
+      points->GetPoint(i, x);
+      vtkIdType c = cells->FindCell(x, tol2, cell, subId, pcoords, weights.data());
+      if (c < 0)
+      {
+        double closest[3], dist2;
+        cells->FindClosestPoint(x, closest, cell, c, subId, dist2);
+        cell->EvaluatePosition(closest, nullptr, subId, pcoords, dist2, weights.data());
+      }
+      outPD->InterpolatePoint(pointList, G->GetPointData(), 1, i, cell->PointIds, weights.data());
+    }
+    for (std::size_t k = 0; k < cellSource.size(); ++k)
+    {
+      if (cellSource[k] >= 0)
+      {
+        outCD->CopyData(cellList, inCD, 0, cellSource[k], static_cast<vtkIdType>(k));
+        continue;
+      }
+      double centre[3] = { 0.0, 0.0, 0.0 };
+      vtkIdType npts;
+      const vtkIdType* pts;
+      output->GetCellPoints(static_cast<vtkIdType>(k), npts, pts);
+      for (int j = 0; j < 4; ++j)
+      {
+        double x[3];
+        points->GetPoint(pts[j], x);
+        for (int d = 0; d < 3; ++d)
+        {
+          centre[d] += 0.25 * x[d];
+        }
+      }
+      vtkIdType src = cells->FindCell(centre, tol2, cell, subId, pcoords, weights.data());
+      if (src < 0)
+      {
+        double closest[3], dist2;
+        cells->FindClosestPoint(centre, closest, cell, src, subId, dist2);
+      }
+      outCD->CopyData(cellList, G->GetCellData(), 1, src, static_cast<vtkIdType>(k));
+    }
+    outPD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+    outCD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  }
+  output->GetCellData()->AddArray(region);
+  output->GetCellData()->AddArray(minAngle);
+
+  // ---- Field data, equal on every rank and to the serial run's.
+  double surfaceTriangles = static_cast<double>(result.Surface.size() / 3);
+  double removedNodes = static_cast<double>(result.RemovedNodes);
+  double minNew = stats[2];
+  vtkARMeshKernels::AllReduceSum(stats, 2);
+  vtkARMeshKernels::AllReduceSum(&stats[3], 1);
+  vtkARMeshKernels::AllReduceSum(volumes, 2);
+  vtkARMeshKernels::AllReduceSum(&surfaceTriangles, 1);
+  vtkARMeshKernels::AllReduceSum(&removedNodes, 1);
+  minNew = -minNew;
+  vtkARMeshKernels::AllReduceMax(&minNew, 1);
+  minNew = -minNew;
+  auto field = [&](const char* name, double value) {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  };
+  field("KeptCells", stats[0]);
+  field("NewCells", stats[1]);
+  field("RemovedNodes", removedNodes);
+  field("SurfaceTriangles", surfaceTriangles);
+  field("SurfaceEdgeLength", edge);
+  field("MinDihedralAngleNew", stats[1] > 0 ? minNew : 0.0);
+  field("MeanDihedralAngleNew", stats[1] > 0 ? stats[3] / stats[1] : 0.0);
+  field("RelativeVolumeChange", volumes[0] > 0.0 ? (volumes[1] - volumes[0]) / volumes[0] : 0.0);
+  vtkNew<vtkCellArray> faces;
+  for (std::size_t f = 0; f < result.Surface.size(); f += 3)
+  {
+    const vtkIdType tri[3] = { outOfResult[result.Surface[f]], outOfResult[result.Surface[f + 1]],
+      outOfResult[result.Surface[f + 2]] };
+    faces->InsertNextCell(3, tri);
+  }
+  if (rank == 0)
+  {
+    embedded->SetPoints(points);
+  }
+  else
+  {
+    vtkNew<vtkPoints> none;
+    embedded->SetPoints(none);
+  }
   embedded->SetPolys(faces);
   this->UpdateProgress(1.0);
   return 1;

@@ -44,8 +44,27 @@
  * Bad input (no tetrahedra, inverted cells, non-finite points, an empty S,
  * S outside V, S crossing itself or another S, S too close to kept cells, a
  * TetGen failure) gives an error naming the problem and passes V through
- * unchanged. Serial: under MPI the filter refuses to run on distributed data
- * (not yet gathered).
+ * unchanged.
+ *
+ * MPI (more than one rank; LocalCavity only): the result equals the serial
+ * run's. The distributed volume should carry one level of ghost cells
+ * (vtkGhostCellsGenerator): they complete l_v at the nodes of a rank's own
+ * cells. The feature surfaces are gathered to rank 0, remeshed there and
+ * broadcast; the domain boundary (owned faces with no neighbour) is
+ * all-gathered. Each rank computes the removal flags at its nodes
+ * (ar::ComputeRemovedNodes, the global boundary given); the cavity is its
+ * owned tetrahedra at removed nodes. The cavity and three node rings of kept
+ * cells around it (matched across ranks by coordinates; enough for the
+ * refill to grow the cavity twice at forced slivers) go to rank 0, which
+ * refills the given cavity (ar::RemeshLocalCavity with CavityCells) and
+ * interpolates the new points' fields in the gathered cells. Rank 0 outputs
+ * its kept cells and all new cells; every other rank outputs its own kept
+ * cells, so the far field never moves. Field data (counts, angles, volume
+ * change) is reduced and equal on every rank; output port 1 (the embedded
+ * surface) is on rank 0. Under MPI the volume must be tetrahedral (hybrid
+ * meshes and 2-D patch cells are refused with an error: run them on one
+ * rank), FullDomain is refused (it would move the whole mesh), and a
+ * multiblock input must hold the volume leaf on every rank (else refused).
  */
 #ifndef vtkEmbeddedRemesh_h
 #define vtkEmbeddedRemesh_h
@@ -107,6 +126,10 @@ protected:
 
   /// The remeshing of one volume mesh (the whole input, or a multiblock's volume leaf).
   int RemeshVolume(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces,
+    vtkUnstructuredGrid* output, vtkPolyData* embedded);
+  /// The LocalCavity remesh of a distributed volume (MPI, more than one
+  /// rank): the cavity is gathered to rank 0, the far field stays. Collective.
+  int RemeshDistributed(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces,
     vtkUnstructuredGrid* output, vtkPolyData* embedded);
 
 private:

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -78,9 +79,13 @@ bool Inside(const Tree& tree, const Point& p)
 }
 }
 
-bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
+namespace
+{
+/// RemeshLocalCavity; with `removedOnly`, stops after the removal test and
+/// returns its per-node flags there.
+bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
   const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,
-  CavityRemesh& out, std::string& error)
+  CavityRemesh& out, std::vector<std::uint8_t>* removedOnly, std::string& error)
 {
   out = CavityRemesh();
   const std::size_t nV = V.NumberOfPoints();
@@ -141,7 +146,7 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
   // ---- Longest edge at each node of V and of S.
   // (and the mean length of the edges of the tetrahedra at each node of V,
   // the size the refill grades to at the cavity's boundary)
-  std::vector<double> lv(nV, 0.0), ls(nSurfacePoints, 0.0), meanV(nV, 0.0), countV(nV, 0.0);
+  std::vector<double> lv(nV, 0.0), ls(nSurfacePoints, 0.0), meanV(nV, 0.0);
   for (std::size_t t = 0; t < nT; ++t)
   {
     const std::int64_t* v = &V.Tetrahedra[4 * t];
@@ -152,16 +157,45 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
         const double l = Distance(&V.Points[3 * v[a]], &V.Points[3 * v[b]]);
         lv[v[a]] = std::max(lv[v[a]], l);
         lv[v[b]] = std::max(lv[v[b]], l);
-        meanV[v[a]] += l;
-        meanV[v[b]] += l;
-        countV[v[a]] += 1.0;
-        countV[v[b]] += 1.0;
       }
     }
   }
-  for (std::size_t v = 0; v < nV; ++v)
+  if (!removedOnly)
   {
-    meanV[v] = countV[v] > 0.0 ? meanV[v] / countV[v] : lv[v];
+    // The mean is summed exactly (fixed point, scaled by the node's longest
+    // edge) so that it does not depend on the order of the cells: a rank that
+    // holds the cells around a node in another order gets the same bits.
+    std::vector<__int128> sum(nV, 0);
+    std::vector<std::int64_t> count(nV, 0);
+    std::vector<int> scale(nV, 0);
+    for (std::size_t v = 0; v < nV; ++v)
+    {
+      int e = 0;
+      std::frexp(lv[v], &e);
+      scale[v] = 100 - e; // every edge at v times 2^scale is below 2^100
+    }
+    for (std::size_t t = 0; t < nT; ++t)
+    {
+      const std::int64_t* v = &V.Tetrahedra[4 * t];
+      for (int a = 0; a < 4; ++a)
+      {
+        for (int b = a + 1; b < 4; ++b)
+        {
+          const double l = Distance(&V.Points[3 * v[a]], &V.Points[3 * v[b]]);
+          for (const std::int64_t n : { v[a], v[b] })
+          {
+            sum[n] += static_cast<__int128>(std::ldexp(l, scale[n]));
+            ++count[n];
+          }
+        }
+      }
+    }
+    for (std::size_t v = 0; v < nV; ++v)
+    {
+      meanV[v] = count[v] > 0
+        ? std::ldexp(static_cast<double>(sum[v]), -scale[v]) / static_cast<double>(count[v])
+        : lv[v];
+    }
   }
   for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
   {
@@ -251,6 +285,20 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
         boundary.emplace_back(P(&V.Points[3 * a]), P(&V.Points[3 * b]), P(&V.Points[3 * c]));
         onBoundary[a] = onBoundary[b] = onBoundary[c] = 1;
       }
+    }
+  }
+  if (!options.BoundaryTriangles.empty())
+  {
+    if (options.BoundaryTriangles.size() % 9 != 0 || !Finite(options.BoundaryTriangles))
+    {
+      error = "BoundaryTriangles must hold 9 finite coordinates per triangle.";
+      return false;
+    }
+    boundary.clear();
+    const std::vector<double>& b = options.BoundaryTriangles;
+    for (std::size_t k = 0; k < b.size(); k += 9)
+    {
+      boundary.emplace_back(P(&b[k]), P(&b[k + 3]), P(&b[k + 6]));
     }
   }
   Tree tree(boundary.begin(), boundary.end());
@@ -351,7 +399,14 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
       std::to_string(nV) + " nodes.";
     return false;
   }
-  for (std::size_t j = 0; j < nV; ++j)
+  const bool givenCavity = !options.CavityCells.empty();
+  if (givenCavity && options.CavityCells.size() != nT)
+  {
+    error = "CavityCells has " + std::to_string(options.CavityCells.size()) + " entries for " +
+      std::to_string(nT) + " tetrahedra.";
+    return false;
+  }
+  for (std::size_t j = 0; j < nV && !givenCavity; ++j)
   {
     if (!options.LockedNodes.empty() && options.LockedNodes[j])
     {
@@ -389,10 +444,21 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
     }
   }
 
-  // ---- The cavity: tetrahedra touching removed nodes; its boundary faces.
+  if (removedOnly)
+  {
+    removedOnly->assign(removed.begin(), removed.end());
+    return true;
+  }
+
+  // ---- The cavity: tetrahedra touching removed nodes (or the given one).
   std::vector<char> cavity(nT, 0);
   for (std::size_t t = 0; t < nT; ++t)
   {
+    if (givenCavity)
+    {
+      cavity[t] = options.CavityCells[t] ? 1 : 0;
+      continue;
+    }
     for (int k = 0; k < 4; ++k)
     {
       cavity[t] = cavity[t] || removed[V.Tetrahedra[4 * t + k]];
@@ -457,6 +523,43 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
     }
   }
   nBoundaryNodes = static_cast<std::int64_t>(nodeSize.size());
+  {
+    // Canonical order: nodes by coordinates, triangles by their (rotated)
+    // node ids, so that the refill does not depend on V's numbering.
+    std::vector<std::int64_t> order(nBoundaryNodes), rank(nBoundaryNodes);
+    std::iota(order.begin(), order.end(), 0);
+    const std::vector<double>& X = plc.Points;
+    std::sort(order.begin(), order.end(), [&](std::int64_t a, std::int64_t b) {
+      return std::lexicographical_compare(&X[3 * a], &X[3 * a] + 3, &X[3 * b], &X[3 * b] + 3);
+    });
+    std::vector<double> points(X.size()), sizes(nodeSize.size());
+    for (std::int64_t k = 0; k < nBoundaryNodes; ++k)
+    {
+      rank[order[k]] = k;
+      std::copy(&X[3 * order[k]], &X[3 * order[k]] + 3, &points[3 * k]);
+      sizes[k] = nodeSize[order[k]];
+    }
+    plc.Points.swap(points);
+    nodeSize.swap(sizes);
+    for (std::int64_t& id : plcIndex)
+    {
+      id = id >= 0 ? rank[id] : id;
+    }
+    std::vector<std::array<std::int64_t, 4>> tris(plc.TriangleMarkers.size());
+    for (std::size_t t = 0; t < tris.size(); ++t)
+    {
+      std::array<std::int64_t, 3> f = { rank[plc.Triangles[3 * t]], rank[plc.Triangles[3 * t + 1]],
+        rank[plc.Triangles[3 * t + 2]] };
+      std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+      tris[t] = { f[0], f[1], f[2], plc.TriangleMarkers[t] };
+    }
+    std::sort(tris.begin(), tris.end());
+    for (std::size_t t = 0; t < tris.size(); ++t)
+    {
+      std::copy(tris[t].begin(), tris[t].begin() + 3, &plc.Triangles[3 * t]);
+      plc.TriangleMarkers[t] = static_cast<int>(tris[t][3]);
+    }
+  }
   // S: internal facets, marker 2.
   plc.Points.insert(plc.Points.end(), sPoints.begin(), sPoints.end());
   nodeSize.insert(nodeSize.end(), sSize.begin(), sSize.end());
@@ -488,6 +591,12 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
       }
     }
     plc.Holes.insert(plc.Holes.end(), c, c + 3);
+  }
+  {
+    std::vector<std::array<double, 3>> holes(plc.Holes.size() / 3);
+    std::memcpy(holes.data(), plc.Holes.data(), plc.Holes.size() * sizeof(double));
+    std::sort(holes.begin(), holes.end());
+    std::memcpy(plc.Holes.data(), holes.data(), plc.Holes.size() * sizeof(double));
   }
   plc.PointSizes = nodeSize;
 
@@ -679,5 +788,24 @@ bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_
     }
   }
   return true;
+}
+}
+
+bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
+  const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,
+  CavityRemesh& out, std::string& error)
+{
+  return Run(V, surfacePoints, nSurfacePoints, surfaceTriangles, nSurfaceTriangles, options, out,
+    nullptr, error);
+}
+
+bool ComputeRemovedNodes(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
+  const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,
+  std::vector<std::uint8_t>& removed, std::string& error)
+{
+  CavityRemesh unused;
+  removed.clear();
+  return Run(V, surfacePoints, nSurfacePoints, surfaceTriangles, nSurfaceTriangles, options, unused,
+    &removed, error);
 }
 }

@@ -24,7 +24,11 @@
  * The refill: TetGen on the cavity boundary plus S (internal facets, marker
  * 2) with quality switches and a size field: l_v at the cavity's boundary
  * nodes, S's edge length at S's nodes. A hole point in each kept region next
- * to the cavity stops TetGen from filling kept space.
+ * to the cavity stops TetGen from filling kept space. The refill's input is
+ * put in a canonical order (cavity-boundary nodes sorted by coordinates,
+ * mean edge lengths summed exactly), so the same cavity gives the same refill
+ * whatever the numbering of V: this is what lets a distributed run, which
+ * gathers the cavity to one rank, equal the serial one.
  */
 #ifndef ARCavity_h
 #define ARCavity_h
@@ -50,6 +54,15 @@ struct CavityOptions
   /// Per node of V, nonzero where the node must stay (e.g. the nodes of
   /// non-tetrahedral cells of a hybrid mesh, which are kept uncut). Empty: none.
   std::vector<std::uint8_t> LockedNodes;
+  /// The domain boundary as triangles (9 coordinates each), used for
+  /// trimming S and for the visibility test instead of V's own boundary
+  /// faces. For a V that is one rank's piece (or a gathered part) of a
+  /// distributed mesh: pass the boundary of the whole domain. Empty: V's.
+  std::vector<double> BoundaryTriangles;
+  /// Per tetrahedron of V, nonzero where it belongs to the cavity: the
+  /// removal step is skipped and this cavity is refilled (it may still grow
+  /// at forced slivers). Empty: the cavity comes from the removal test.
+  std::vector<std::uint8_t> CavityCells;
 };
 
 struct CavityRemesh
@@ -76,6 +89,18 @@ struct CavityRemesh
 bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
   const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,
   CavityRemesh& out, std::string& error);
+
+/**
+ * The removal step of RemeshLocalCavity alone: per node of V, nonzero where
+ * the node would be removed (S trimmed, validated and tested as there; the
+ * "nothing to remesh" case is not an error here). Deterministic: a node gets
+ * the same answer in any V that holds all the tetrahedra around it, so ranks
+ * holding ghost cells agree on shared nodes when they pass the same S and
+ * the same options.BoundaryTriangles.
+ */
+bool ComputeRemovedNodes(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
+  const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,
+  std::vector<std::uint8_t>& removed, std::string& error);
 }
 
 #endif

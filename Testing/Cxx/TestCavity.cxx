@@ -367,3 +367,112 @@ TEST(Cavity, TetGenFailureIsReportedNotThrown)
   const std::string e = Refusal(cube, twin);
   EXPECT_NE(e.find("TetGen"), std::string::npos) << e;
 }
+
+// The stages a distributed run uses: per-"rank" removal flags with the
+// global boundary given, then the refill of a gathered part of V (the cavity
+// and three node rings around it, renumbered) with the cavity given. The
+// refill must equal the serial one in counts, as TetGen gets the same input.
+TEST(Cavity, StagedOnAGatheredPartEqualsSerial)
+{
+  const ar::TetMesh cube = KuhnCube(12);
+  const Surface s = TiltedPatch();
+  const ar::CavityRemesh serial = Remesh(cube, s);
+  const std::size_t nT = cube.NumberOfTetrahedra();
+  // The global boundary, from the serial mesh.
+  std::vector<double> boundary;
+  {
+    std::map<std::array<std::int64_t, 3>, std::pair<int, std::array<std::int64_t, 3>>> faces;
+    static const int fv[4][3] = { { 1, 2, 3 }, { 0, 3, 2 }, { 0, 1, 3 }, { 0, 2, 1 } };
+    for (std::size_t t = 0; t < nT; ++t)
+      for (const auto& f : fv)
+      {
+        std::array<std::int64_t, 3> tri = { cube.Tetrahedra[4 * t + f[0]], cube.Tetrahedra[4 * t + f[1]], cube.Tetrahedra[4 * t + f[2]] };
+        auto key = tri;
+        std::sort(key.begin(), key.end());
+        auto& e = faces[key];
+        ++e.first;
+        e.second = tri;
+      }
+    for (const auto& e : faces)
+      if (e.second.first == 1)
+        for (std::int64_t v : e.second.second)
+          boundary.insert(boundary.end(), &cube.Points[3 * v], &cube.Points[3 * v] + 3);
+  }
+  ar::CavityOptions o;
+  o.BoundaryTriangles = boundary;
+  // "Rank" 0 holds the tetrahedra with centroid x < 0.5 plus one layer of
+  // ghosts; its flags at the nodes of its own cells must match the whole mesh's.
+  std::vector<std::uint8_t> whole, part;
+  std::string error;
+  ASSERT_TRUE(ar::ComputeRemovedNodes(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, whole, error)) << error;
+  ar::TetMesh half;
+  half.Points = cube.Points;
+  std::vector<char> own(cube.NumberOfPoints(), 0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    double cx = 0;
+    for (int k = 0; k < 4; ++k)
+      cx += 0.25 * cube.Points[3 * cube.Tetrahedra[4 * t + k]];
+    if (cx < 0.5)
+      for (int k = 0; k < 4; ++k)
+        own[cube.Tetrahedra[4 * t + k]] = 1;
+  }
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    bool touches = false;
+    for (int k = 0; k < 4; ++k)
+      touches = touches || own[cube.Tetrahedra[4 * t + k]];
+    if (touches) // owned cells and their node-connected ghost layer
+      half.Tetrahedra.insert(half.Tetrahedra.end(), &cube.Tetrahedra[4 * t], &cube.Tetrahedra[4 * t] + 4);
+  }
+  ASSERT_TRUE(ar::ComputeRemovedNodes(half, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, part, error)) << error;
+  for (std::size_t v = 0; v < own.size(); ++v)
+    if (own[v])
+      EXPECT_EQ(part[v], whole[v]) << "node " << v;
+  // The gathered part: cavity + 3 node rings, in reversed order, points renumbered.
+  std::vector<char> selected(nT, 0), node(cube.NumberOfPoints(), 0);
+  for (std::size_t t = 0; t < nT; ++t)
+    for (int k = 0; k < 4; ++k)
+      selected[t] = selected[t] || whole[cube.Tetrahedra[4 * t + k]];
+  const std::vector<char> cavity = selected;
+  for (int ring = 0; ring < 3; ++ring)
+  {
+    for (std::size_t t = 0; t < nT; ++t)
+      if (selected[t])
+        for (int k = 0; k < 4; ++k)
+          node[cube.Tetrahedra[4 * t + k]] = 1;
+    for (std::size_t t = 0; t < nT; ++t)
+      for (int k = 0; k < 4; ++k)
+        selected[t] = selected[t] || node[cube.Tetrahedra[4 * t + k]];
+  }
+  ar::TetMesh gathered;
+  std::vector<std::int64_t> index(cube.NumberOfPoints(), -1);
+  for (std::size_t t = nT; t-- > 0;)
+  {
+    if (!selected[t])
+      continue;
+    for (int k = 0; k < 4; ++k)
+    {
+      const std::int64_t v = cube.Tetrahedra[4 * t + k];
+      if (index[v] < 0)
+      {
+        index[v] = static_cast<std::int64_t>(gathered.Points.size() / 3);
+        gathered.Points.insert(gathered.Points.end(), &cube.Points[3 * v], &cube.Points[3 * v] + 3);
+      }
+      gathered.Tetrahedra.push_back(index[v]);
+    }
+    o.CavityCells.push_back(cavity[t] ? 1 : 0);
+  }
+  const ar::CavityRemesh staged = Remesh(gathered, s, o);
+  auto newCells = [](const ar::CavityRemesh& r) { return std::count(r.SourceCell.begin(), r.SourceCell.end(), -1); };
+  auto newPoints = [](const ar::CavityRemesh& r) { return std::count(r.SourcePoint.begin(), r.SourcePoint.end(), -1); };
+  EXPECT_GT(newCells(serial), 0);
+  EXPECT_EQ(newCells(staged), newCells(serial));
+  EXPECT_EQ(newPoints(staged), newPoints(serial));
+  EXPECT_EQ(staged.RemovedCells, serial.RemovedCells);
+  EXPECT_EQ(staged.RemovedNodes, serial.RemovedNodes);
+  EXPECT_EQ(staged.Surface.size(), serial.Surface.size());
+  EXPECT_EQ(serial.SourceCell.size() - newCells(serial), nT - serial.RemovedCells);
+}

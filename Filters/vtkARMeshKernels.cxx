@@ -492,7 +492,25 @@ vtkSmartPointer<vtkPolyData> vtkARMeshKernels::GatherPolyData(
   merge->SetTolerance(tolerance);
   merge->Update();
   vtkPolyData* merged = merge->GetOutput();
-  std::map<std::array<vtkIdType, 3>, int> count;
+  // Per triangle (sorted corners): how often it comes with each orientation.
+  // A face between two pieces comes twice with opposite orientations (each
+  // side's outward face); a piece that every rank holds whole (a replicated
+  // dataset) gives copies with the same orientation.
+  auto keyOf = [](const vtkIdType* ids, int& parity) {
+    std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
+    // The parity of the permutation that sorts the corners.
+    parity = 0;
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = i + 1; j < 3; ++j)
+      {
+        parity ^= key[i] > key[j] ? 1 : 0;
+      }
+    }
+    std::sort(key.begin(), key.end());
+    return key;
+  };
+  std::map<std::array<vtkIdType, 3>, std::array<int, 2>> count;
   vtkIdType npts;
   const vtkIdType* ids;
   vtkCellArray* polys = merged->GetPolys();
@@ -500,9 +518,9 @@ vtkSmartPointer<vtkPolyData> vtkARMeshKernels::GatherPolyData(
   {
     if (npts == 3)
     {
-      std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
-      std::sort(key.begin(), key.end());
-      ++count[key];
+      int parity;
+      const auto key = keyOf(ids, parity);
+      ++count[key][parity];
     }
   }
   vtkNew<vtkCellArray> kept;
@@ -513,14 +531,19 @@ vtkSmartPointer<vtkPolyData> vtkARMeshKernels::GatherPolyData(
       kept->InsertNextCell(npts, ids);
       continue;
     }
-    std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
-    std::sort(key.begin(), key.end());
-    int& n = count[key];
-    if (dropSharedTriangles ? n == 1 : n > 0)
+    int parity;
+    const auto key = keyOf(ids, parity);
+    std::array<int, 2>& n = count[key];
+    const bool interface = n[0] > 0 && n[1] > 0;
+    if (dropSharedTriangles && interface)
     {
-      kept->InsertNextCell(3, ids);
+      continue;
     }
-    n = dropSharedTriangles ? n : 0; // keep the first copy only
+    if (n[0] + n[1] > 0)
+    {
+      kept->InsertNextCell(3, ids); // the first copy
+    }
+    n = { 0, 0 };
   }
   result->ShallowCopy(merged);
   result->SetPolys(kept);

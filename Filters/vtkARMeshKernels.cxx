@@ -329,10 +329,10 @@ bool vtkARMeshKernels::CellColumnsToPoints(const MeshView& mesh, const double* c
 
 //------------------------------------------------------------------------------
 void vtkARMeshKernels::RequestExtraGhostLevels(
-  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int extra)
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int extra, int port)
 {
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(port);
   using SDDP = vtkStreamingDemandDrivenPipeline;
   inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
   inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));

@@ -170,7 +170,7 @@ public:
   /// `extra` ghost levels (gradients and graph rings at partition boundaries
   /// need the neighbours).
   static void RequestExtraGhostLevels(
-    vtkInformationVector** inputVector, vtkInformationVector* outputVector, int extra);
+    vtkInformationVector** inputVector, vtkInformationVector* outputVector, int extra, int port = 0);
 
   /// MPI reductions over the global controller (no-ops in serial).
   static void AllReduceMax(double* values, int n);

@@ -12,6 +12,7 @@
 #include "vtkHexahedron.h"
 #include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
+#include "vtkExecutive.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -179,11 +180,19 @@ int vtkFeatureCluster::FillOutputPortInformation(int port, vtkInformation* info)
 
 //------------------------------------------------------------------------------
 int vtkFeatureCluster::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   // The region around a node on a partition boundary reaches DilationRings + 1
-  // rings into the neighbouring partition.
-  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, this->DilationRings + 1);
+  // rings into the neighbouring partition. The piece comes from the port that
+  // is asked: when only the medial points (port 1) feed a QuadricFit, port
+  // 0's request is a stale "piece 0 of 1", which made every rank read the
+  // whole mesh.
+  int port = 0;
+  if (request && request->Has(vtkExecutive::FROM_OUTPUT_PORT()))
+  {
+    port = std::max(0, request->Get(vtkExecutive::FROM_OUTPUT_PORT()));
+  }
+  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, this->DilationRings + 1, port);
   return 1;
 }
 

@@ -69,3 +69,24 @@ for label, domain in domains.items():
             writer.SetInputData(local)
             writer.SetDataModeToBinary()
             writer.Write()
+
+# The whole chain on the mesh itself: WeightFunction -> FeatureCluster ->
+# QuadricFit with the reader as Domain (the medial points come from port 1
+# of FeatureCluster: its request must not make the reader read everything).
+if data.endswith(".pvtu"):
+    chain_mesh = GhostCellsGenerator(Input=reader)
+    chain_domain = reader
+else:
+    chain_mesh = chain_domain = domains["whole"]
+weight = WeightFunction(Input=chain_mesh, Variables=["p", "rho"], ComputePointWeight=1)
+clusters = FeatureCluster(Input=weight, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
+fit = QuadricFit(Input=OutputPort(clusters, 1), Domain=chain_domain, Template="Plane", ClusterId=0)
+fit.UpdatePipeline()
+local = fit.GetClientSideObject().GetOutputDataObject(0)
+print("rank %d of %d: chain Plane %d cells" % (rank, ranks, local.GetNumberOfCells()))
+if rank == 0:
+    writer = vtkXMLPolyDataWriter()
+    writer.SetFileName("%s.chain.Plane.vtp" % out_path)
+    writer.SetInputData(local)
+    writer.SetDataModeToBinary()
+    writer.Write()

@@ -89,4 +89,16 @@ for template in ("Plane", "Cone"):
             check(len(a) == len(b) and np.allclose(a, b, rtol=1e-9, atol=1e-12),
                   "%s, %s: field %s equal to the serial run" % (template, label, name))
 
+# The chain from the mesh (sensor -> clusters -> fit, reader as Domain).
+ref_path, par_path = "%s.chain.Plane.vtp" % serial, "%s.chain.Plane.vtp" % parallel
+if os.path.exists(ref_path) and os.path.exists(par_path):
+    ref, par = load(ref_path), load(par_path)
+    check(ref.GetNumberOfCells() > 100 and par.GetNumberOfCells() == ref.GetNumberOfCells(),
+          "chain: %d triangles on 2 ranks (serial %d)" % (par.GetNumberOfCells(), ref.GetNumberOfCells()))
+    a, b = artest.field(par, "Normal"), artest.field(ref, "Normal")
+    check(np.allclose(abs(np.dot(a, b)), 1.0, atol=1e-9), "chain: the same plane as the serial run")
+else:
+    check(False, "chain: both runs wrote their surface")
+check("rank 1 of 2: chain Plane 0 cells" in text, "chain: rank 1's output is empty")
+
 artest.finish()

@@ -54,6 +54,33 @@
 
 vtkStandardNewMacro(vtkEmbeddedRemesh);
 
+namespace
+{
+/// The feature surfaces as bare triangles (geometry only: their arrays are
+/// not wanted), added to `append`.
+void AddSurfaceTriangles(const std::vector<vtkDataSet*>& surfaces, vtkAppendPolyData* append)
+{
+  for (vtkDataSet* ds : surfaces)
+  {
+    if (!ds || ds->GetNumberOfCells() == 0)
+    {
+      continue;
+    }
+    vtkNew<vtkGeometryFilter> geometry;
+    geometry->SetInputData(ds);
+    vtkNew<vtkTriangleFilter> triangles;
+    triangles->SetInputConnection(geometry->GetOutputPort());
+    triangles->PassVertsOff();
+    triangles->PassLinesOff();
+    triangles->Update();
+    vtkNew<vtkPolyData> bare;
+    bare->SetPoints(triangles->GetOutput()->GetPoints());
+    bare->SetPolys(triangles->GetOutput()->GetPolys());
+    append->AddInputData(bare);
+  }
+}
+}
+
 //------------------------------------------------------------------------------
 vtkEmbeddedRemesh::vtkEmbeddedRemesh()
 {
@@ -216,24 +243,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
 
   // ---- The feature surfaces, merged and triangulated.
   vtkNew<vtkAppendPolyData> append;
-  for (vtkDataSet* ds : surfaces)
-  {
-    if (!ds || ds->GetNumberOfCells() == 0)
-    {
-      continue;
-    }
-    vtkNew<vtkGeometryFilter> geometry;
-    geometry->SetInputData(ds);
-    vtkNew<vtkTriangleFilter> triangles;
-    triangles->SetInputConnection(geometry->GetOutputPort());
-    triangles->PassVertsOff();
-    triangles->PassLinesOff();
-    triangles->Update();
-    vtkNew<vtkPolyData> bare; // geometry only: S's arrays are not wanted
-    bare->SetPoints(triangles->GetOutput()->GetPoints());
-    bare->SetPolys(triangles->GetOutput()->GetPolys());
-    append->AddInputData(bare);
-  }
+  AddSurfaceTriangles(surfaces, append);
   if (append->GetNumberOfInputConnections(0) == 0)
   {
     return passThrough("The feature surface is empty (no Surfaces connected, or none has cells).");
@@ -658,24 +668,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
 
   // ---- S: the surface pieces gathered to rank 0, merged there.
   vtkNew<vtkAppendPolyData> append;
-  for (vtkDataSet* ds : surfaces)
-  {
-    if (!ds || ds->GetNumberOfCells() == 0)
-    {
-      continue;
-    }
-    vtkNew<vtkGeometryFilter> geometry;
-    geometry->SetInputData(ds);
-    vtkNew<vtkTriangleFilter> triangles;
-    triangles->SetInputConnection(geometry->GetOutputPort());
-    triangles->PassVertsOff();
-    triangles->PassLinesOff();
-    triangles->Update();
-    vtkNew<vtkPolyData> bare;
-    bare->SetPoints(triangles->GetOutput()->GetPoints());
-    bare->SetPolys(triangles->GetOutput()->GetPolys());
-    append->AddInputData(bare);
-  }
+  AddSurfaceTriangles(surfaces, append);
   vtkNew<vtkPolyData> localSurface;
   if (append->GetNumberOfInputConnections(0) > 0)
   {

@@ -491,17 +491,16 @@ bool TetGenTetrahedralizeSurface(const double* xyz, std::size_t nPoints,
     return false;
   }
 
-  tetgenio in, result;
-  in.firstnumber = 0;
-  in.numberofpoints = static_cast<int>(nPoints);
-  in.pointlist = new REAL[3 * nPoints];
-  std::copy(xyz, xyz + 3 * nPoints, in.pointlist);
-  AddTriangleFacets(in, triangles, nTriangles, nullptr);
-  if (!RunTetGen(in, result, TetGenSwitches(options), error))
+  // The same (crash-isolated) path as the cavity refill.
+  PiecewiseLinearComplex plc;
+  plc.Points.assign(xyz, xyz + 3 * nPoints);
+  plc.Triangles.assign(triangles, triangles + 3 * nTriangles);
+  TetGenResult result;
+  if (!TetGenMeshComplex(plc, options, result, error))
   {
     return false;
   }
-  CopyTetrahedra(result, out);
+  out = std::move(result.Mesh);
   return true;
 }
 }

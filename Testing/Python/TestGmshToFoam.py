@@ -39,8 +39,7 @@ if BASHRC is None:
 import numpy as np
 from paraview.simple import *
 from paraview import servermanager
-from vtkmodules.vtkCommonCore import vtkIntArray, vtkOutputWindow, vtkPoints, vtkStringArray, vtkStringOutputWindow
-from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+from vtkmodules.vtkCommonCore import vtkIntArray, vtkOutputWindow, vtkStringArray, vtkStringOutputWindow
 from vtkmodules.vtkFiltersGeneral import vtkCellValidator
 from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -170,14 +169,7 @@ CELLS = [(12, [0, 1, 2, 3, 4, 5, 6, 7]),   # hexahedron
          (14, [4, 5, 6, 7, 8]),             # pyramid on the hex's top face
          (13, [1, 9, 5, 2, 10, 6]),         # wedge on the hex's x = 1 face
          (10, [1, 9, 5, 11])]               # tetrahedron on the wedge's y = 0 triangle
-H = vtkUnstructuredGrid()
-pts = vtkPoints()
-pts.SetDataTypeToDouble()
-for x in X:
-    pts.InsertNextPoint(*x)
-H.SetPoints(pts)
-for t, ids in CELLS:
-    H.InsertNextCell(t, len(ids), ids)
+H = artest.grid_of(X, CELLS)
 validator = vtkCellValidator()
 validator.SetInputData(H)
 validator.Update()

@@ -329,15 +329,7 @@ def hybrid():
     if np.linalg.det(A) < 0:
         A[:, 0] *= -1
     x = np.asarray(pts) @ A.T + rng.standard_normal(3)
-    g = vtkUnstructuredGrid()
-    p = vtkPoints()
-    p.SetDataTypeToDouble()
-    for q in x:
-        p.InsertNextPoint(*q)
-    g.SetPoints(p)
-    for t, ids in cells:
-        g.InsertNextCell(t, len(ids), ids)
-    return g
+    return artest.grid_of(x, cells)
 
 
 def cell_faces_of(grid, cell):
@@ -511,16 +503,7 @@ def refused(data, fragment, label, path=None, **props):
         check(not leftovers, "%s %s: no file (or temporary) left: %s" % (label, ext, leftovers))
 
 
-def grid_of(points, cells):
-    g = vtkUnstructuredGrid()
-    p = vtkPoints()
-    p.SetDataTypeToDouble()
-    for q in points:
-        p.InsertNextPoint(*q)
-    g.SetPoints(p)
-    for t, ids in cells:
-        g.InsertNextCell(t, len(ids), ids)
-    return g
+grid_of = artest.grid_of
 
 
 tri = grid_of(TET[:3], [(VTK_TRIANGLE, [0, 1, 2])])

@@ -128,3 +128,18 @@ def angle_between_planes(n1, n2):
     """Angle in degrees between two planes given by their normals."""
     c = abs(np.dot(n1, n2)) / (np.linalg.norm(n1) * np.linalg.norm(n2))
     return np.degrees(np.arccos(min(1.0, c)))
+
+
+def grid_of(points, cells):
+    """A vtkUnstructuredGrid (double points) from [(x, y, z)] and [(vtk_type, [ids])]."""
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+    g = vtkUnstructuredGrid()
+    p = vtkPoints()
+    p.SetDataTypeToDouble()
+    for q in points:
+        p.InsertNextPoint(*q)
+    g.SetPoints(p)
+    for t, ids in cells:
+        g.InsertNextCell(t, len(ids), ids)
+    return g

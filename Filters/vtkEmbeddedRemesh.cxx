@@ -46,10 +46,12 @@
 #include <array>
 #include <map>
 #include <set>
+#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 vtkStandardNewMacro(vtkEmbeddedRemesh);
@@ -240,6 +242,14 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   {
     return passThrough("The volume mesh is empty.");
   }
+  // Wall-clock seconds per stage, reported in the output's field data.
+  auto stageStart = std::chrono::steady_clock::now();
+  auto lap = [&stageStart]() {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - stageStart).count();
+    stageStart = now;
+    return s;
+  };
 
   // ---- The feature surfaces, merged and triangulated.
   vtkNew<vtkAppendPolyData> append;
@@ -327,6 +337,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     return passThrough("The volume mesh has no tetrahedra to remesh.");
   }
   this->UpdateProgress(0.1);
+  const double secondsInput = lap();
 
   // ---- S remeshed at the edge length.
   double edge = this->SurfaceEdgeLength;
@@ -378,6 +389,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     rTris = sTris;
   }
   this->UpdateProgress(0.3);
+  const double secondsSurface = lap();
 
   // ---- The cavity and its refill.
   options.RemovalFactor = this->RemovalFactor;
@@ -393,6 +405,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     return passThrough("EmbeddedRemesh: " + error);
   }
   this->UpdateProgress(0.8);
+  lap();
 
   // ---- Output mesh: new tetrahedra and kept cells, in the output's point ids.
   const auto nOut = static_cast<vtkIdType>(result.SourcePoint.size());
@@ -475,7 +488,11 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     minAngle->InsertNextValue(-1.0);
   }
 
-  // ---- Fields: kept points and cells copy theirs; new ones interpolate.
+  const double secondsOutput = lap();
+
+  // ---- Fields: kept points and cells copy theirs; new ones interpolate
+  // from the input's cells that were removed (the cavity holds every new
+  // point), so the cost follows the cavity, not the whole mesh.
   if (this->InterpolateFields)
   {
     vtkPointData* inPD = input->GetPointData();
@@ -484,60 +501,141 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     vtkCellData* outCD = output->GetCellData();
     outPD->InterpolateAllocate(inPD, nOut);
     outCD->CopyAllocate(inCD, static_cast<vtkIdType>(sourceCell.size()));
+    std::vector<char> keptTet(tetCell.size(), 0);
+    for (const std::int64_t src : result.SourceCell)
+    {
+      if (src >= 0)
+      {
+        keptTet[src] = 1;
+      }
+    }
+    vtkNew<vtkUnstructuredGrid> cavity; // the removed tetrahedra, on the input's points
+    cavity->SetPoints(input->GetPoints());
+    std::vector<vtkIdType> cavityCell; // input cell id of each cavity cell
+    for (std::size_t t = 0; t < tetCell.size(); ++t)
+    {
+      if (!keptTet[t])
+      {
+        cavityCell.push_back(tetCell[t]);
+      }
+    }
+    cavity->Allocate(static_cast<vtkIdType>(cavityCell.size()));
+    for (const vtkIdType c : cavityCell)
+    {
+      input->GetCellPoints(c, ids);
+      cavity->InsertNextCell(VTK_TETRA, ids);
+    }
     vtkNew<vtkStaticCellLocator> cells;
-    cells->SetDataSet(input);
+    cells->SetDataSet(cavity);
     cells->BuildLocator();
-    vtkNew<vtkGenericCell> cell;
-    std::vector<double> weights(VTK_CELL_SIZE);
-    double pcoords[3];
-    int subId;
-    vtkNew<vtkStaticPointLocator> nearest;
-    nearest->SetDataSet(input);
-    nearest->BuildLocator();
     const double tol2 = 1e-12 * input->GetLength2();
+    // Every new point and every new cell's centre, located in the removed
+    // cells: on threads (the static locator's FindCell is thread-safe with a
+    // cell per thread; VTK's SMP back end here is sequential).
+    std::vector<vtkIdType> newPoint;
+    for (vtkIdType i = 0; i < nOut; ++i)
+    {
+      if (result.SourcePoint[i] < 0)
+      {
+        newPoint.push_back(i);
+      }
+    }
+    std::vector<std::size_t> newCell;
+    for (std::size_t k = 0; k < sourceCell.size(); ++k)
+    {
+      if (sourceCell[k] < 0)
+      {
+        newCell.push_back(k);
+      }
+    }
+    const std::size_t nQueries = newPoint.size() + newCell.size();
+    std::vector<double> where(3 * nQueries);
+    for (std::size_t q = 0; q < newPoint.size(); ++q)
+    {
+      points->GetPoint(newPoint[q], &where[3 * q]);
+    }
+    for (std::size_t q = 0; q < newCell.size(); ++q)
+    {
+      const std::int64_t* v = &result.Mesh.Tetrahedra[4 * newCell[q]];
+      double* centre = &where[3 * (newPoint.size() + q)];
+      for (int d = 0; d < 3; ++d)
+      {
+        centre[d] = 0.25 *
+          (result.Mesh.Points[3 * v[0] + d] + result.Mesh.Points[3 * v[1] + d] +
+            result.Mesh.Points[3 * v[2] + d] + result.Mesh.Points[3 * v[3] + d]);
+      }
+    }
+    std::vector<vtkIdType> found(nQueries, -1);
+    std::vector<double> weights(4 * nQueries, 0.0);
+    {
+      const unsigned nThreads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+      std::vector<std::thread> workers;
+      for (unsigned w = 0; w < nThreads; ++w)
+      {
+        workers.emplace_back([&, w]() {
+          vtkNew<vtkGenericCell> cell;
+          double pcoords[3], wts[VTK_CELL_SIZE];
+          int subId;
+          for (std::size_t q = w; q < nQueries; q += nThreads)
+          {
+            found[q] = cells->FindCell(&where[3 * q], tol2, cell, subId, pcoords, wts);
+            if (found[q] >= 0)
+            {
+              std::copy(wts, wts + 4, &weights[4 * q]);
+            }
+          }
+        });
+      }
+      for (std::thread& t : workers)
+      {
+        t.join();
+      }
+    }
+    // The rare misses (round-off at the cavity's boundary): the closest removed cell.
+    vtkNew<vtkGenericCell> cell;
+    for (std::size_t q = 0; q < nQueries; ++q)
+    {
+      if (found[q] < 0)
+      {
+        double closest[3], dist2, pcoords[3];
+        int subId;
+        cells->FindClosestPoint(&where[3 * q], closest, cell, found[q], subId, dist2);
+        cell->EvaluatePosition(closest, nullptr, subId, pcoords, dist2, &weights[4 * q]);
+      }
+    }
     for (vtkIdType i = 0; i < nOut; ++i)
     {
       if (result.SourcePoint[i] >= 0)
       {
         outPD->CopyData(inPD, result.SourcePoint[i], i);
-        continue;
       }
-      double x[3];
-      points->GetPoint(i, x);
-      const vtkIdType c = cells->FindCell(x, tol2, cell, subId, pcoords, weights.data());
-      if (c >= 0)
+    }
+    vtkNew<vtkIdList> corners;
+    corners->SetNumberOfIds(4);
+    for (std::size_t q = 0; q < newPoint.size(); ++q)
+    {
+      vtkIdType npts;
+      const vtkIdType* pts;
+      cavity->GetCellPoints(found[q], npts, pts);
+      for (int k = 0; k < 4; ++k)
       {
-        outPD->InterpolatePoint(inPD, i, cell->PointIds, weights.data());
+        corners->SetId(k, pts[k]);
       }
-      else
-      {
-        outPD->CopyData(inPD, nearest->FindClosestPoint(x), i);
-      }
+      outPD->InterpolatePoint(inPD, newPoint[q], corners, &weights[4 * q]);
     }
     for (std::size_t k = 0; k < sourceCell.size(); ++k)
     {
-      vtkIdType src = sourceCell[k];
-      if (src < 0)
+      if (sourceCell[k] >= 0)
       {
-        double centre[3] = { 0.0, 0.0, 0.0 };
-        const std::int64_t* v = &result.Mesh.Tetrahedra[4 * k];
-        for (int j = 0; j < 4; ++j)
-        {
-          for (int d = 0; d < 3; ++d)
-          {
-            centre[d] += 0.25 * result.Mesh.Points[3 * v[j] + d];
-          }
-        }
-        src = cells->FindCell(centre, tol2, cell, subId, pcoords, weights.data());
-        if (src < 0)
-        {
-          double closest[3], dist2;
-          cells->FindClosestPoint(centre, closest, cell, src, subId, dist2);
-        }
+        outCD->CopyData(inCD, sourceCell[k], static_cast<vtkIdType>(k));
       }
-      outCD->CopyData(inCD, src, static_cast<vtkIdType>(k));
+    }
+    for (std::size_t q = 0; q < newCell.size(); ++q)
+    {
+      outCD->CopyData(inCD, cavityCell[found[newPoint.size() + q]], static_cast<vtkIdType>(newCell[q]));
     }
   }
+  const double secondsInterpolation = lap();
   output->GetCellData()->AddArray(region);
   output->GetCellData()->AddArray(minAngle);
 
@@ -554,6 +652,16 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("SurfaceEdgeLength", edge);
   field("MinDihedralAngleNew", newCount ? newMin : 0.0);
   field("MeanDihedralAngleNew", newCount ? newSum / newCount : 0.0);
+  field("SecondsInput", secondsInput);
+  field("SecondsSurfaceMeshing", secondsSurface);
+  field("SecondsSetup", result.Seconds.Setup);
+  field("SecondsRemoval", result.Seconds.Removal);
+  field("SecondsCavity", result.Seconds.Cavity);
+  field("SecondsRefill", result.Seconds.Refill);
+  field("RefillAttempts", result.RefillAttempts);
+  field("SecondsAssembly", result.Seconds.Assembly);
+  field("SecondsOutput", secondsOutput);
+  field("SecondsInterpolation", secondsInterpolation);
   field("RelativeVolumeChange",
     before.TotalVolume > 0.0 ? (after.TotalVolume - before.TotalVolume) / before.TotalVolume : 0.0);
   vtkNew<vtkCellArray> faces;

@@ -20,6 +20,7 @@
 #include <boost/tuple/tuple.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -88,6 +89,14 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   CavityRemesh& out, std::vector<std::uint8_t>* removedOnly, std::string& error)
 {
   out = CavityRemesh();
+  using Clock = std::chrono::steady_clock;
+  auto stageStart = Clock::now();
+  // Adds the time since the last call to `stage`.
+  auto lap = [&stageStart](double& stage) {
+    const auto now = Clock::now();
+    stage += std::chrono::duration<double>(now - stageStart).count();
+    stageStart = now;
+  };
   const std::size_t nV = V.NumberOfPoints();
   const std::size_t nT = V.NumberOfTetrahedra();
   // ---- Validation.
@@ -160,43 +169,69 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       }
     }
   }
-  if (!removedOnly)
-  {
-    // The mean is summed exactly (fixed point, scaled by the node's longest
-    // edge) so that it does not depend on the order of the cells: a rank that
-    // holds the cells around a node in another order gets the same bits.
-    std::vector<__int128> sum(nV, 0);
-    std::vector<std::int64_t> count(nV, 0);
-    std::vector<int> scale(nV, 0);
+  // The mean edge at a node, for the nodes flagged in `need` that do not
+  // have it yet (only the cavity's boundary nodes need it: computed there,
+  // the cost follows the cavity). It is summed exactly (fixed point, scaled
+  // by the node's longest edge) so that it does not depend on the order of
+  // the cells: a rank that holds the cells around a node in another order
+  // gets the same bits.
+  std::vector<char> hasMean(nV, 0);
+  auto computeMeans = [&](std::vector<char>& need) {
+    bool any = false;
     for (std::size_t v = 0; v < nV; ++v)
     {
+      need[v] = need[v] && !hasMean[v];
+      any = any || need[v];
+    }
+    if (!any)
+    {
+      return;
+    }
+    std::vector<__int128> sum(nV, 0);
+    std::vector<std::int64_t> count(nV, 0);
+    auto scale = [&](std::int64_t v) {
       int e = 0;
       std::frexp(lv[v], &e);
-      scale[v] = 100 - e; // every edge at v times 2^scale is below 2^100
-    }
+      return 100 - e; // every edge at v times 2^scale is below 2^100
+    };
     for (std::size_t t = 0; t < nT; ++t)
     {
       const std::int64_t* v = &V.Tetrahedra[4 * t];
+      if (!(need[v[0]] || need[v[1]] || need[v[2]] || need[v[3]]))
+      {
+        continue;
+      }
       for (int a = 0; a < 4; ++a)
       {
         for (int b = a + 1; b < 4; ++b)
         {
+          if (!need[v[a]] && !need[v[b]])
+          {
+            continue;
+          }
           const double l = Distance(&V.Points[3 * v[a]], &V.Points[3 * v[b]]);
           for (const std::int64_t n : { v[a], v[b] })
           {
-            sum[n] += static_cast<__int128>(std::ldexp(l, scale[n]));
-            ++count[n];
+            if (need[n])
+            {
+              sum[n] += static_cast<__int128>(std::ldexp(l, scale(n)));
+              ++count[n];
+            }
           }
         }
       }
     }
     for (std::size_t v = 0; v < nV; ++v)
     {
-      meanV[v] = count[v] > 0
-        ? std::ldexp(static_cast<double>(sum[v]), -scale[v]) / static_cast<double>(count[v])
-        : lv[v];
+      if (need[v])
+      {
+        meanV[v] = count[v] > 0
+          ? std::ldexp(static_cast<double>(sum[v]), -scale(v)) / static_cast<double>(count[v])
+          : lv[v];
+        hasMean[v] = 1;
+      }
     }
-  }
+  };
   for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
   {
     const std::int64_t* f = surfaceTriangles + 3 * t;
@@ -218,33 +253,45 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       std::int64_t B, C, TetFace;
       bool operator<(const Face& o) const { return B < o.B || (B == o.B && C < o.C); }
     };
-    std::vector<std::int64_t> offset(nV + 1, 0);
-    auto sorted = [&](std::size_t t, int f) {
-      std::array<std::int64_t, 3> key;
-      for (int k = 0; k < 3; ++k)
+    // Face f of a tetrahedron is the one opposite its vertex f. With the
+    // vertices sorted once per tetrahedron, each face's key is the sorted
+    // triple left when one vertex is dropped.
+    auto sortedTet = [&](std::size_t t, std::array<std::int64_t, 4>& s, std::array<int, 4>& local) {
+      std::array<std::pair<std::int64_t, int>, 4> p;
+      for (int k = 0; k < 4; ++k)
       {
-        key[k] = V.Tetrahedra[4 * t + FaceVertex[f][k]];
+        p[k] = { V.Tetrahedra[4 * t + k], k };
       }
-      std::sort(key.begin(), key.end());
-      return key;
+      std::sort(p.begin(), p.end());
+      for (int k = 0; k < 4; ++k)
+      {
+        s[k] = p[k].first;
+        local[k] = p[k].second;
+      }
     };
+    std::vector<std::int64_t> offset(nV + 1, 0);
     for (std::size_t t = 0; t < nT; ++t)
     {
-      for (int f = 0; f < 4; ++f)
-      {
-        ++offset[sorted(t, f)[0] + 1];
-      }
+      std::array<std::int64_t, 4> s;
+      std::array<int, 4> local;
+      sortedTet(t, s, local);
+      // dropping s[0] leaves a face keyed by s[1]; the other three by s[0]
+      ++offset[s[1] + 1];
+      offset[s[0] + 1] += 3;
     }
     std::partial_sum(offset.begin(), offset.end(), offset.begin());
     std::vector<Face> faces(4 * nT);
     std::vector<std::int64_t> fill(offset.begin(), offset.end() - 1);
     for (std::size_t t = 0; t < nT; ++t)
     {
-      for (int f = 0; f < 4; ++f)
-      {
-        const auto key = sorted(t, f);
-        faces[fill[key[0]]++] = Face{ key[1], key[2], static_cast<std::int64_t>(4 * t + f) };
-      }
+      std::array<std::int64_t, 4> s;
+      std::array<int, 4> local;
+      sortedTet(t, s, local);
+      const std::int64_t base = static_cast<std::int64_t>(4 * t);
+      faces[fill[s[1]]++] = Face{ s[2], s[3], base + local[0] };
+      faces[fill[s[0]]++] = Face{ s[2], s[3], base + local[1] };
+      faces[fill[s[0]]++] = Face{ s[1], s[3], base + local[2] };
+      faces[fill[s[0]]++] = Face{ s[1], s[2], base + local[3] };
     }
     for (std::size_t v = 0; v < nV; ++v)
     {
@@ -303,6 +350,8 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   }
   Tree tree(boundary.begin(), boundary.end());
   tree.accelerate_distance_queries();
+
+  lap(out.Seconds.Setup);
 
   // ---- Trim S: inside V and at least BoundaryMargin * l_s from its boundary.
   std::vector<char> usable(nSurfacePoints, 0);
@@ -450,6 +499,8 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     return true;
   }
 
+  lap(out.Seconds.Removal);
+
   // ---- The cavity: tetrahedra touching removed nodes (or the given one).
   std::vector<char> cavity(nT, 0);
   for (std::size_t t = 0; t < nT; ++t)
@@ -482,6 +533,20 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   TetGenResult refill;
   for (int attempt = 0;; ++attempt)
   {
+  {
+    std::vector<char> need(nV, 0);
+    for (std::size_t t = 0; t < nT; ++t)
+    {
+      if (cavity[t])
+      {
+        for (int k = 0; k < 4; ++k)
+        {
+          need[V.Tetrahedra[4 * t + k]] = 1;
+        }
+      }
+    }
+    computeMeans(need);
+  }
   plcIndex.assign(nV, -1);
   plc = PiecewiseLinearComplex();
   nodeSize.clear();
@@ -624,7 +689,15 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   }
 
   // ---- Refill.
-  if (!TetGenMeshComplex(plc, options.Quality, refill, error))
+  lap(out.Seconds.Cavity);
+  ++out.RefillAttempts;
+  if (!options.RefillFilesPrefix.empty() && !WriteTetGenFiles(plc, options.RefillFilesPrefix, error))
+  {
+    return false;
+  }
+  const bool refilled = TetGenMeshComplex(plc, options.Quality, refill, error);
+  lap(out.Seconds.Refill);
+  if (!refilled)
   {
     error = "refilling the cavity: " + error;
     return false;
@@ -704,6 +777,8 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   }
   out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
   const std::size_t nRefillPoints = refill.Mesh.NumberOfPoints();
+
+  lap(out.Seconds.Cavity);
 
   // ---- Output: V's points that are still used, then S's and TetGen's new points.
   std::vector<std::int64_t> outIndex(nV, -1);
@@ -787,6 +862,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       }
     }
   }
+  lap(out.Seconds.Assembly);
   return true;
 }
 }

@@ -63,6 +63,9 @@ struct CavityOptions
   /// removal step is skipped and this cavity is refilled (it may still grow
   /// at forced slivers). Empty: the cavity comes from the removal test.
   std::vector<std::uint8_t> CavityCells;
+  /// When not empty: the refill's complex is also written as TetGen input
+  /// files under this prefix (see WriteTetGenFiles), the last attempt's.
+  std::string RefillFilesPrefix;
 };
 
 struct CavityRemesh
@@ -74,6 +77,15 @@ struct CavityRemesh
   std::size_t RemovedNodes = 0;          ///< interior nodes of V removed
   std::size_t RemovedCells = 0;          ///< tetrahedra of V in the cavity
   std::size_t SurfaceTrianglesUsed = 0;  ///< S triangles left after the trim
+  /// Wall-clock seconds of the stages: the sizes and face adjacency of V
+  /// (Setup), S's trim and the removal test with visibility (Removal), the
+  /// cavity and its boundary complex (Cavity), TetGen (Refill, all
+  /// attempts), the assembly of the output (Assembly).
+  struct StageTimes
+  {
+    double Setup = 0.0, Removal = 0.0, Cavity = 0.0, Refill = 0.0, Assembly = 0.0;
+  } Seconds;
+  int RefillAttempts = 0; ///< TetGen runs (more than one when the cavity grew at forced slivers)
 };
 
 /**

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <fstream>
 #include <array>
 #include <cmath>
 #include <csignal>
@@ -501,6 +502,62 @@ bool TetGenTetrahedralizeSurface(const double* xyz, std::size_t nPoints,
     return false;
   }
   out = std::move(result.Mesh);
+  return true;
+}
+
+bool WriteTetGenFiles(const PiecewiseLinearComplex& plc, const std::string& prefix, std::string& error)
+{
+  const std::size_t nPoints = plc.Points.size() / 3;
+  const std::size_t nTriangles = plc.Triangles.size() / 3;
+  auto open = [&](const char* extension, std::ofstream& file) {
+    file.open(prefix + extension);
+    file.precision(17);
+    if (!file)
+    {
+      error = "cannot write " + prefix + extension + ".";
+    }
+    return static_cast<bool>(file);
+  };
+  std::ofstream node, smesh, mtr;
+  if (!open(".node", node) || !open(".smesh", smesh))
+  {
+    return false;
+  }
+  node << nPoints << " 3 0 0\n";
+  for (std::size_t i = 0; i < nPoints; ++i)
+  {
+    node << i << ' ' << plc.Points[3 * i] << ' ' << plc.Points[3 * i + 1] << ' ' << plc.Points[3 * i + 2] << '\n';
+  }
+  // Points are in the .node file; facets carry their markers.
+  smesh << "0 3 0 0\n" << nTriangles << " 1\n";
+  for (std::size_t t = 0; t < nTriangles; ++t)
+  {
+    smesh << "3 " << plc.Triangles[3 * t] << ' ' << plc.Triangles[3 * t + 1] << ' ' << plc.Triangles[3 * t + 2]
+          << ' ' << (plc.TriangleMarkers.empty() ? 1 : plc.TriangleMarkers[t]) << '\n';
+  }
+  smesh << plc.Holes.size() / 3 << '\n';
+  for (std::size_t h = 0; h < plc.Holes.size() / 3; ++h)
+  {
+    smesh << h << ' ' << plc.Holes[3 * h] << ' ' << plc.Holes[3 * h + 1] << ' ' << plc.Holes[3 * h + 2] << '\n';
+  }
+  smesh << "0\n";
+  if (!plc.PointSizes.empty())
+  {
+    if (!open(".mtr", mtr))
+    {
+      return false;
+    }
+    mtr << plc.PointSizes.size() << " 1\n";
+    for (double s : plc.PointSizes)
+    {
+      mtr << s << '\n';
+    }
+  }
+  if (!node || !smesh || (!plc.PointSizes.empty() && !mtr))
+  {
+    error = "writing the TetGen files " + prefix + ".* failed.";
+    return false;
+  }
   return true;
 }
 }

@@ -76,6 +76,16 @@ struct TetGenResult
  */
 bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& options,
   TetGenResult& out, std::string& error);
+
+/**
+ * Writes `plc` as TetGen's own input files, `prefix`.node, `prefix`.smesh
+ * (facets with their markers, hole points) and, with a size field,
+ * `prefix`.mtr, so the same complex can be meshed by the `tetgen` program
+ * (`tetgen -p<switches>m prefix.smesh`): to compare against TetGen alone,
+ * or to attach a failing refill to a report. Returns false when a file
+ * cannot be written.
+ */
+bool WriteTetGenFiles(const PiecewiseLinearComplex& plc, const std::string& prefix, std::string& error);
 }
 
 #endif

@@ -11,6 +11,7 @@
 // dominates and does not vary much).
 
 #include "ARCavity.h"
+#include "ARTetGen.h"
 #include "ARTetGeometry.h"
 #include "../Cxx/ARTestMeshes.h"
 
@@ -19,6 +20,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,17 +39,48 @@ double PeakRSSMB()
   return ru.ru_maxrss / 1024.0;
 }
 
+/// Runs the `tetgen` program on the files at `prefix` and formats a row
+/// comparing its throughput with ours.
+std::string Standalone(const std::string& prefix, const ar::TetGenOptions& quality, const char* mode,
+  std::size_t inputTets, double oursPerSecond)
+{
+  std::string switches = ar::TetGenSwitches(quality);
+  if (!switches.empty() && switches.back() == 'Q')
+    switches.pop_back();
+  const std::string command = "tetgen -" + switches + "mNEF " + prefix + ".smesh 2>&1";
+  const double t0 = Now();
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  if (!pipe)
+    return std::string("| ") + mode + " | cannot run tetgen |";
+  char line[512];
+  long tets = -1;
+  while (std::fgets(line, sizeof(line), pipe.get()))
+  {
+    const char* key = std::strstr(line, "Mesh tetrahedra:");
+    if (key)
+      tets = std::atol(key + std::strlen("Mesh tetrahedra:"));
+  }
+  const int status = pclose(pipe.release());
+  const double dt = Now() - t0;
+  if (tets < 0 || status != 0)
+    return std::string("| ") + mode + " | tetgen not found or failed: `" + command + "` |";
+  char row[512];
+  std::snprintf(row, sizeof(row), "| %s | %zu | %ld | %.2f | %.3g | %.3g | %.0f %% |", mode, inputTets, tets, dt,
+    tets / dt, oursPerSecond, 100.0 * oursPerSecond / (tets / dt));
+  return row;
+}
 }
 
 int main(int argc, char* argv[])
 {
+  std::vector<std::string> standalone;
   std::vector<int> sizes;
   for (int i = 1; i < argc; ++i)
     sizes.push_back(std::atoi(argv[i]));
   if (sizes.empty())
     sizes = { 30, 55 };
-  std::printf("| mode | input tets | surface triangles | s | new tets | new tets/s | kept tets | peak RSS MB |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("| mode | input tets | surface triangles | s | setup | removal | cavity | refill (runs) | assembly | new tets | new tets/s in TetGen | kept tets | peak RSS MB |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int n : sizes)
   {
     const ar::TetMesh cube = artest::KuhnCube(n);
@@ -69,6 +103,8 @@ int main(int argc, char* argv[])
     {
       ar::CavityOptions o;
       o.FullDomain = full == 1;
+      const std::string prefix = "/tmp/BenchCavity_" + std::to_string(n) + (full ? "_full" : "_local");
+      o.RefillFilesPrefix = prefix;
       ar::CavityRemesh r;
       std::string error;
       const double t0 = Now();
@@ -80,10 +116,24 @@ int main(int argc, char* argv[])
       if (!ok)
         std::printf("| %s | %zu | %zu | failed: %s |\n", full ? "FullDomain" : "LocalCavity", cube.NumberOfTetrahedra(), tris.size() / 3, error.c_str());
       else
-        std::printf("| %s | %zu | %zu | %.2f | %zu | %.3g | %zu | %.0f |\n", full ? "FullDomain" : "LocalCavity",
-          cube.NumberOfTetrahedra(), tris.size() / 3, dt, fresh, fresh / dt, kept, PeakRSSMB());
+      {
+        const auto& s = r.Seconds;
+        std::printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f (%d) | %.2f | %zu | %.3g | %zu | %.0f |\n",
+          full ? "FullDomain" : "LocalCavity", cube.NumberOfTetrahedra(), tris.size() / 3, dt, s.Setup,
+          s.Removal, s.Cavity, s.Refill, r.RefillAttempts, s.Assembly, fresh, fresh / s.Refill, kept,
+          PeakRSSMB());
+      }
       std::fflush(stdout);
+      if (ok)
+        standalone.push_back(Standalone(prefix, o.Quality, full ? "FullDomain" : "LocalCavity",
+          cube.NumberOfTetrahedra(), fresh / r.Seconds.Refill));
     }
   }
+  std::printf("\nThe same refills by the `tetgen` program (Debian's, 1.5.0) on the complexes written with\n"
+              "RefillFilesPrefix, output files off (-NEF):\n\n");
+  std::printf("| refill | input tets | tetgen tets | tetgen s | tetgen tets/s | ours tets/s | ours / tetgen |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+  for (const std::string& row : standalone)
+    std::printf("%s\n", row.c_str());
   return 0;
 }

@@ -724,13 +724,6 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     output->ShallowCopy(input);
     return 1;
   };
-  if (this->Mode == FULL_DOMAIN)
-  {
-    problem = "EmbeddedRemesh: FullDomain does not run on distributed data (it would move the "
-              "whole mesh to one rank); use LocalCavity, or run FullDomain on one rank.";
-    return passThrough();
-  }
-
   // ---- This rank's tetrahedra, owned and ghost (the ghosts complete l_v).
   const vtkIdType nPoints = input->GetNumberOfPoints();
   vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
@@ -977,6 +970,9 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   options.Quality.MaxRadiusEdgeRatio = this->MaxRadiusEdgeRatio;
   options.Quality.MinDihedralAngle = this->MinDihedralAngle;
   options.BoundaryTriangles = boundary;
+  // FullDomain: every node goes, so the whole mesh is gathered to rank 0
+  // (TetGen is serial) and remeshed there.
+  options.FullDomain = this->Mode == FULL_DOMAIN;
   std::vector<std::uint8_t> removed;
   if (!ar::ComputeRemovedNodes(V, rPoints.data(), rPoints.size() / 3, rTris.data(), rTris.size() / 3,
         options, removed, error))

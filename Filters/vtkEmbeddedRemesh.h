@@ -63,7 +63,8 @@
  * change) is reduced and equal on every rank; output port 1 (the embedded
  * surface) is on rank 0. Under MPI the volume must be tetrahedral (hybrid
  * meshes and 2-D patch cells are refused with an error: run them on one
- * rank), FullDomain is refused (it would move the whole mesh), and a
+ * rank), FullDomain gathers the whole mesh to rank 0 (TetGen is serial;
+ * rank 0 ends with every cell), and a
  * multiblock input must hold the volume leaf on every rank (else refused).
  */
 #ifndef vtkEmbeddedRemesh_h

@@ -24,7 +24,7 @@ jobs="${AR_JOBS:-$(nproc)}"
 packages=(
   git cmake ninja-build g++ make ca-certificates pkg-config
   paraview paraview-dev python3-paraview python3-numpy python3-matplotlib
-  libcgal-dev libgmp-dev libmpfr-dev libtet1.5-dev libeigen3-dev libboost-dev libgtest-dev
+  libcgal-dev libgmp-dev libmpfr-dev libtet1.5-dev tetgen libeigen3-dev libboost-dev libgtest-dev
   qtbase5-dev qttools5-dev libqt5svg5-dev libqt5x11extras5-dev qtxmlpatterns5-dev-tools
   libutfcpp-dev libdouble-conversion-dev libgl2ps-dev libglew-dev libnetcdf-dev libhdf5-openmpi-dev
   libavformat-dev libavcodec-dev libswscale-dev libavutil-dev libtheora-dev liblz4-dev liblzma-dev

@@ -1,9 +1,9 @@
 """pvbatch script: WeightFunction -> FeatureCluster -> QuadricFit (plane) ->
-EmbeddedRemesh (LocalCavity) on the analytic oblique shock, serial or
+EmbeddedRemesh (LocalCavity, or FullDomain) on the analytic oblique shock, serial or
 distributed.
 
-    pvbatch MPIEmbeddedRemeshPipeline.py <mesh.vtu> <output>
-    mpiexec -np 2 pvbatch --symmetric MPIEmbeddedRemeshPipeline.py <pieces.pvtu> <output> <plane.vtp>
+    pvbatch MPIEmbeddedRemeshPipeline.py <mesh.vtu> <output> [--mode=FullDomain]
+    mpiexec -np 2 pvbatch --symmetric MPIEmbeddedRemeshPipeline.py <pieces.pvtu> <output> <plane.vtp> [--mode=FullDomain]
 
 The serial run fits the plane with QuadricFit and writes it as
 <output>.plane.vtp; the distributed run reads that plane (on rank 0 only:
@@ -25,7 +25,9 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter, vtkXMLUnstructuredGridWrit
 import artest
 
 artest.load_plugin(globals())
-data, out_path = sys.argv[1], sys.argv[2]
+mode = next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--mode=")), "LocalCavity")
+argv = [a for a in sys.argv if not a.startswith("--mode=")]
+data, out_path = argv[1], argv[2]
 pm = servermanager.vtkProcessModule.GetProcessModule()
 rank, ranks = pm.GetPartitionId(), pm.GetNumberOfLocalPartitions()
 
@@ -34,8 +36,8 @@ if data.endswith(".pvtu"):
     mesh = GhostCellsGenerator(Input=domain)
 else:
     mesh = domain = XMLUnstructuredGridReader(FileName=[data])
-if len(sys.argv) > 3:
-    plane = XMLPolyDataReader(FileName=[sys.argv[3]])  # piece 0 on rank 0, nothing on rank 1
+if len(argv) > 3:
+    plane = XMLPolyDataReader(FileName=[argv[3]])  # piece 0 on rank 0, nothing on rank 1
 else:
     weight = WeightFunction(Input=mesh, Variables=["p", "rho"], ComputePointWeight=1)
     clusters = FeatureCluster(Input=weight, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
@@ -47,7 +49,7 @@ else:
         w.SetInputData(plane.GetClientSideObject().GetOutputDataObject(0))
         w.SetDataModeToBinary()
         w.Write()
-er = EmbeddedRemesh(Input=mesh, Surfaces=[plane], Mode="LocalCavity")
+er = EmbeddedRemesh(Input=mesh, Surfaces=[plane], Mode=mode)
 start = time.time()
 er.UpdatePipeline()
 seconds = time.time() - start

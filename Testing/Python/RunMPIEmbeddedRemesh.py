@@ -1,5 +1,5 @@
-"""MPI test driver (run with pvpython): EmbeddedRemesh (LocalCavity) under
-`mpiexec -np 2 pvbatch` equals the serial run.
+"""MPI test driver (run with pvpython): EmbeddedRemesh (LocalCavity, then
+FullDomain) under `mpiexec -np 2 pvbatch` equals the serial run.
 
     pvpython RunMPIEmbeddedRemesh.py <pvbatch> <mpiexec>
 
@@ -12,6 +12,8 @@ cells, embedded surface triangles and field data equal; the volume equal to
 1e-9; every cell of positive volume; conforming; the boundary the input's,
 face for face; every embedded triangle a face between two cells. The cavity
 is refilled on rank 0: rank 1 keeps its far field and has no new cells.
+FullDomain gathers the whole mesh to rank 0 (TetGen is serial): rank 1
+ends with no cells.
 """
 import os
 import sys
@@ -27,99 +29,104 @@ pvpython = os.path.join(os.path.dirname(pvbatch), "pvpython")
 here = os.path.dirname(os.path.abspath(__file__))
 script = os.path.join(here, "MPIEmbeddedRemeshPipeline.py")
 
-out = artest.OUTPUT_DIR
-pieces = os.path.join(out, "mpier_pieces.pvtu")
-whole = os.path.join(out, "mpier_whole.vtu")
-serial = os.path.join(out, "mpier_serial")
-parallel = os.path.join(out, "mpier_np2")
-for f in [serial + ".0.vtu", parallel + ".0.vtu", parallel + ".1.vtu"]:
-    if os.path.exists(f):
-        os.remove(f)
-rc, _ = artest.run([pvpython, os.path.join(here, "SplitIntoPieces.py"), artest.data("oblique_shock_unstructured.vtu"), pieces, whole])
-check(rc == 0 and os.path.exists(pieces), "split into a 2-piece .pvtu")
-rc, _ = artest.run([pvbatch, script, whole, serial])
-check(rc == 0 and os.path.exists(serial + ".0.vtu"), "serial pvbatch run")
-rc, text = artest.run([mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "2", pvbatch, "--symmetric", script,
-                       pieces, parallel, serial + ".plane.vtp"])
-check(rc == 0 and os.path.exists(parallel + ".1.vtu"), "mpiexec -np 2 pvbatch run")
-check("ERROR" not in text and "passes through" not in text, "no error under MPI")
-
 FACES = ((1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1))
 
 
-def tets(ds):
-    conn = vtk_to_numpy(ds.VTKObject.GetCells().GetConnectivityArray())
-    return conn.reshape(-1, 4)
+def compare(mode):
+    out = artest.OUTPUT_DIR
+    pieces = os.path.join(out, "mpier_pieces.pvtu")
+    whole = os.path.join(out, "mpier_whole.vtu")
+    serial = os.path.join(out, "mpier_serial_" + mode)
+    parallel = os.path.join(out, "mpier_np2_" + mode)
+    for f in [serial + ".0.vtu", parallel + ".0.vtu", parallel + ".1.vtu"]:
+        if os.path.exists(f):
+            os.remove(f)
+    rc, _ = artest.run([pvpython, os.path.join(here, "SplitIntoPieces.py"), artest.data("oblique_shock_unstructured.vtu"), pieces, whole])
+    check(rc == 0 and os.path.exists(pieces), "split into a 2-piece .pvtu")
+    rc, _ = artest.run([pvbatch, script, whole, serial, "--mode=" + mode])
+    check(rc == 0 and os.path.exists(serial + ".0.vtu"), "%s: serial pvbatch run" % mode)
+    rc, text = artest.run([mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "2", pvbatch, "--symmetric", script,
+                           pieces, parallel, serial + ".plane.vtp", "--mode=" + mode])
+    check(rc == 0 and os.path.exists(parallel + ".1.vtu"), "%s: mpiexec -np 2 pvbatch run" % mode)
+    check("ERROR" not in text and "passes through" not in text, "no error under MPI")
+
+    def tets(ds):
+        conn = vtk_to_numpy(ds.VTKObject.GetCells().GetConnectivityArray())
+        return conn.reshape(-1, 4)
+
+    def keys(P, tris):
+        c = np.round(P[tris] * 1e9).astype(np.int64)
+        order = np.lexsort((c[:, :, 2], c[:, :, 1], c[:, :, 0]), axis=1)
+        return [tuple(r) for r in np.take_along_axis(c, order[:, :, None], axis=1).reshape(-1, 9)]
+
+    def face_counts(parts):
+        counts = {}
+        for P, T in parts:
+            for k in keys(P, np.concatenate([T[:, list(f)] for f in FACES])):
+                counts[k] = counts.get(k, 0) + 1
+        return counts
+
+    def volumes(P, T):
+        a, b, c, d = (P[T[:, i]] for i in range(4))
+        return np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a)) / 6.0
 
 
-def keys(P, tris):
-    c = np.round(P[tris] * 1e9).astype(np.int64)
-    order = np.lexsort((c[:, :, 2], c[:, :, 1], c[:, :, 0]), axis=1)
-    return [tuple(r) for r in np.take_along_axis(c, order[:, :, None], axis=1).reshape(-1, 9)]
+    if os.path.exists(serial + ".0.vtu") and os.path.exists(parallel + ".1.vtu"):
+        src = artest.load(whole)
+        ref = artest.load(serial + ".0.vtu")
+        refS = artest.load(serial + ".0.vtp")
+        par = [artest.load("%s.%d.vtu" % (parallel, r)) for r in range(2)]
+        parS = [artest.load("%s.%d.vtp" % (parallel, r)) for r in range(2)]
+
+        def counts(ds):
+            region = np.asarray(ds.CellData["Region"])
+            return ds.GetNumberOfCells(), int((region == 1).sum()), int((region == 0).sum())
+
+        n_ref, new_ref, kept_ref = counts(ref)
+        per_rank = [counts(p) for p in par]
+        n_par, new_par, kept_par = (sum(c[i] for c in per_rank) for i in range(3))
+        check(new_ref > 0, "serial: %d cells, %d new, %d kept" % (n_ref, new_ref, kept_ref))
+        check((n_par, new_par, kept_par) == (n_ref, new_ref, kept_ref),
+              "2 ranks: %d cells, %d new, %d kept (serial %d, %d, %d); per rank %s"
+              % (n_par, new_par, kept_par, n_ref, new_ref, kept_ref, per_rank))
+        if mode == "LocalCavity":
+            check(per_rank[1][1] == 0 and per_rank[1][2] > 0 and per_rank[0][1] == new_ref,
+                  "the cavity is refilled on rank 0; rank 1 keeps its far field (%d cells)" % per_rank[1][0])
+        else:
+            check(per_rank[1][0] == 0 and per_rank[0][1] == new_ref and kept_ref == 0,
+                  "FullDomain: the whole mesh is remeshed on rank 0; rank 1 ends empty")
+        s_ref, s_par = refS.GetNumberOfCells(), sum(p.GetNumberOfCells() for p in parS)
+        check(s_ref > 50 and s_par == s_ref, "embedded surface: %d triangles (serial %d)" % (s_par, s_ref))
+        for name in ("KeptCells", "NewCells", "RemovedNodes", "SurfaceTriangles", "SurfaceEdgeLength"):
+            present = all(name in p.FieldData.keys() for p in par + [ref])
+            a, b = ([artest.field(p, name) for p in par], artest.field(ref, name)) if present else ([], [None])
+            check(present and all(len(x) == 1 and x[0] == b[0] for x in a), "field %s equal on both ranks to the serial run (%s)" % (name, b))
+        for name in ("MinDihedralAngleNew", "MeanDihedralAngleNew"):
+            present = name in par[0].FieldData.keys() and name in ref.FieldData.keys()
+            a, b = (artest.field(par[0], name), artest.field(ref, name)) if present else ([np.nan], [np.nan])
+            check(present and abs(a[0] - b[0]) < 1e-9, "field %s: %.6f (serial %.6f)" % (name, a[0], b[0]))
+        P0, T0 = np.asarray(src.Points, dtype=np.float64), tets(src)
+        parts = [(np.asarray(p.Points, dtype=np.float64), tets(p)) for p in par]
+        vols = np.concatenate([volumes(P, T) for P, T in parts])
+        check(vols.min() > 0, "every cell of the 2 ranks has a positive volume (min %.3e)" % vols.min())
+        v_ref = volumes(np.asarray(ref.Points, dtype=np.float64), tets(ref)).sum()
+        check(abs(vols.sum() / v_ref - 1) < 1e-9 and abs(vols.sum() / volumes(P0, T0).sum() - 1) < 1e-9,
+              "volume equal to the serial run's and the input's (%.1e relative)" % (vols.sum() / v_ref - 1))
+        c0, c1 = face_counts([(P0, T0)]), face_counts(parts)
+        check(max(c1.values()) <= 2, "the union of the ranks' cells is conforming")
+        check({k for k, n in c1.items() if n == 1} == {k for k, n in c0.items() if n == 1},
+              "the union's boundary is the input's, face for face (%d faces)" % sum(1 for n in c0.values() if n == 1))
+        S = vtk_to_numpy(parS[0].VTKObject.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+        on = [c1.get(k, 0) for k in keys(np.asarray(parS[0].Points, dtype=np.float64), S)]
+        check(len(S) > 50 and all(n == 2 for n in on), "all %d embedded triangles are faces between two cells" % len(S))
+        ref_cells = sorted(keys(np.asarray(ref.Points, dtype=np.float64), tets(ref)[:, :3]))
+        par_cells = sorted(sum((keys(P, T[:, :3]) for P, T in parts), []))
+        same = sum(1 for a, b in zip(ref_cells, par_cells) if a == b)
+        artest.say("cells identical to the serial run's (3-corner fingerprint, sorted): %d of %d" % (same, len(ref_cells)))
+        check(ref_cells == par_cells, "the 2-rank mesh is the serial mesh, cell for cell")
+        check(all("p" in p.PointData.keys() for p in par), "the fields are carried (p)")
 
 
-def face_counts(parts):
-    counts = {}
-    for P, T in parts:
-        for k in keys(P, np.concatenate([T[:, list(f)] for f in FACES])):
-            counts[k] = counts.get(k, 0) + 1
-    return counts
-
-
-def volumes(P, T):
-    a, b, c, d = (P[T[:, i]] for i in range(4))
-    return np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a)) / 6.0
-
-
-if os.path.exists(serial + ".0.vtu") and os.path.exists(parallel + ".1.vtu"):
-    src = artest.load(whole)
-    ref = artest.load(serial + ".0.vtu")
-    refS = artest.load(serial + ".0.vtp")
-    par = [artest.load("%s.%d.vtu" % (parallel, r)) for r in range(2)]
-    parS = [artest.load("%s.%d.vtp" % (parallel, r)) for r in range(2)]
-
-    def counts(ds):
-        region = np.asarray(ds.CellData["Region"])
-        return ds.GetNumberOfCells(), int((region == 1).sum()), int((region == 0).sum())
-
-    n_ref, new_ref, kept_ref = counts(ref)
-    per_rank = [counts(p) for p in par]
-    n_par, new_par, kept_par = (sum(c[i] for c in per_rank) for i in range(3))
-    check(new_ref > 0, "serial: %d cells, %d new, %d kept" % (n_ref, new_ref, kept_ref))
-    check((n_par, new_par, kept_par) == (n_ref, new_ref, kept_ref),
-          "2 ranks: %d cells, %d new, %d kept (serial %d, %d, %d); per rank %s"
-          % (n_par, new_par, kept_par, n_ref, new_ref, kept_ref, per_rank))
-    check(per_rank[1][1] == 0 and per_rank[1][2] > 0 and per_rank[0][1] == new_ref,
-          "the cavity is refilled on rank 0; rank 1 keeps its far field (%d cells)" % per_rank[1][0])
-    s_ref, s_par = refS.GetNumberOfCells(), sum(p.GetNumberOfCells() for p in parS)
-    check(s_ref > 50 and s_par == s_ref, "embedded surface: %d triangles (serial %d)" % (s_par, s_ref))
-    for name in ("KeptCells", "NewCells", "RemovedNodes", "SurfaceTriangles", "SurfaceEdgeLength"):
-        present = all(name in p.FieldData.keys() for p in par + [ref])
-        a, b = ([artest.field(p, name) for p in par], artest.field(ref, name)) if present else ([], [None])
-        check(present and all(len(x) == 1 and x[0] == b[0] for x in a), "field %s equal on both ranks to the serial run (%s)" % (name, b))
-    for name in ("MinDihedralAngleNew", "MeanDihedralAngleNew"):
-        present = name in par[0].FieldData.keys() and name in ref.FieldData.keys()
-        a, b = (artest.field(par[0], name), artest.field(ref, name)) if present else ([np.nan], [np.nan])
-        check(present and abs(a[0] - b[0]) < 1e-9, "field %s: %.6f (serial %.6f)" % (name, a[0], b[0]))
-    P0, T0 = np.asarray(src.Points, dtype=np.float64), tets(src)
-    parts = [(np.asarray(p.Points, dtype=np.float64), tets(p)) for p in par]
-    vols = np.concatenate([volumes(P, T) for P, T in parts])
-    check(vols.min() > 0, "every cell of the 2 ranks has a positive volume (min %.3e)" % vols.min())
-    v_ref = volumes(np.asarray(ref.Points, dtype=np.float64), tets(ref)).sum()
-    check(abs(vols.sum() / v_ref - 1) < 1e-9 and abs(vols.sum() / volumes(P0, T0).sum() - 1) < 1e-9,
-          "volume equal to the serial run's and the input's (%.1e relative)" % (vols.sum() / v_ref - 1))
-    c0, c1 = face_counts([(P0, T0)]), face_counts(parts)
-    check(max(c1.values()) <= 2, "the union of the ranks' cells is conforming")
-    check({k for k, n in c1.items() if n == 1} == {k for k, n in c0.items() if n == 1},
-          "the union's boundary is the input's, face for face (%d faces)" % sum(1 for n in c0.values() if n == 1))
-    S = vtk_to_numpy(parS[0].VTKObject.GetPolys().GetConnectivityArray()).reshape(-1, 3)
-    on = [c1.get(k, 0) for k in keys(np.asarray(parS[0].Points, dtype=np.float64), S)]
-    check(len(S) > 50 and all(n == 2 for n in on), "all %d embedded triangles are faces between two cells" % len(S))
-    ref_cells = sorted(keys(np.asarray(ref.Points, dtype=np.float64), tets(ref)[:, :3]))
-    par_cells = sorted(sum((keys(P, T[:, :3]) for P, T in parts), []))
-    same = sum(1 for a, b in zip(ref_cells, par_cells) if a == b)
-    artest.say("cells identical to the serial run's (3-corner fingerprint, sorted): %d of %d" % (same, len(ref_cells)))
-    check(ref_cells == par_cells, "the 2-rank mesh is the serial mesh, cell for cell")
-    check(all("p" in p.PointData.keys() for p in par), "the fields are carried (p)")
-
+for mode in ("LocalCavity", "FullDomain"):
+    compare(mode)
 artest.finish()

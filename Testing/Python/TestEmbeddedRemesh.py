@@ -146,6 +146,8 @@ crossing = Transform(Input=plane)
 crossing.Transform.Rotate = [0.0, 0.0, 90.0]
 crossing.Transform.Translate = [1.0, 0.0, 0.0]
 refused(oblique, [plane, crossing], "intersects itself", "two surfaces crossing")
+folded = AppendGeometry(Input=[plane, crossing])  # one surface that crosses itself
+refused(oblique, [folded], "intersects itself", "a self-intersecting surface")
 # Two copies of the plane 1e-11 apart: nothing crosses, but TetGen fails on
 # them (it crashes while cleaning up; it runs in a child process, so the
 # error is reported and ParaView lives on).

@@ -19,6 +19,17 @@ _failures = []
 _checks = [0]
 
 
+def _report_exception(kind, value, trace):
+    """Uncaught exceptions go to the real stderr: a test that replaces VTK's
+    output window (to read the filters' error messages) would swallow them."""
+    import traceback
+    sys.__stderr__.write("".join(traceback.format_exception(kind, value, trace)))
+    sys.__stderr__.flush()
+
+
+sys.excepthook = _report_exception
+
+
 def data(name):
     return os.path.join(DATA_DIR, name)
 

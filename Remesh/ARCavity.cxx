@@ -23,6 +23,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -304,12 +305,69 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   Tree tree(boundary.begin(), boundary.end());
   tree.accelerate_distance_queries();
 
-  // ---- Trim S: inside V and at least BoundaryMargin * l_s from its boundary.
-  std::vector<char> usable(nSurfacePoints, 0);
+  // ---- The region of the locked cells: the faces of its boundary (faces
+  // listed once), fanned into triangles.
+  std::vector<Triangle> lockedFaces;
+  if (!options.LockedCellFaces.empty())
+  {
+    const std::vector<std::int64_t>& F = options.LockedCellFaces;
+    std::map<std::vector<std::int64_t>, std::pair<int, std::size_t>> seen; // sorted ids: count, position
+    for (std::size_t k = 0; k < F.size();)
+    {
+      const std::int64_t n = F[k];
+      if (n < 3 || k + 1 + static_cast<std::size_t>(n) > F.size())
+      {
+        error = "LockedCellFaces is malformed at entry " + std::to_string(k) +
+          " (each face: its number of nodes, at least 3, then the node ids).";
+        return false;
+      }
+      std::vector<std::int64_t> key(F.begin() + k + 1, F.begin() + k + 1 + n);
+      for (const std::int64_t v : key)
+      {
+        if (v < 0 || static_cast<std::size_t>(v) >= nV)
+        {
+          error = "LockedCellFaces refers to a point that does not exist (" + std::to_string(v) + ").";
+          return false;
+        }
+      }
+      std::sort(key.begin(), key.end());
+      auto& entry = seen[key];
+      ++entry.first;
+      entry.second = k;
+      k += 1 + static_cast<std::size_t>(n);
+    }
+    for (const auto& e : seen)
+    {
+      if (e.second.first != 1)
+      {
+        continue;
+      }
+      const std::int64_t* f = &F[e.second.second + 1];
+      for (std::int64_t j = 1; j + 1 < F[e.second.second]; ++j)
+      {
+        lockedFaces.emplace_back(P(&V.Points[3 * f[0]]), P(&V.Points[3 * f[j]]), P(&V.Points[3 * f[j + 1]]));
+      }
+    }
+  }
+  Tree lockedTree(lockedFaces.begin(), lockedFaces.end());
+  if (!lockedFaces.empty())
+  {
+    lockedTree.accelerate_distance_queries();
+  }
+
+  // ---- Trim S: inside V and at least BoundaryMargin * l_s from its
+  // boundary; outside the locked cells and at least BoundaryMargin * l_s
+  // from them, and no triangle crossing them.
+  std::vector<char> usable(nSurfacePoints, 0), clearOfLocked(nSurfacePoints, 1);
   std::size_t inside = 0;
   for (std::size_t i = 0; i < nSurfacePoints; ++i)
   {
     const Point p = P(&S[3 * i]);
+    if (!lockedFaces.empty())
+    {
+      clearOfLocked[i] = !Inside(lockedTree, p) &&
+        std::sqrt(CGAL::to_double(lockedTree.squared_distance(p))) >= options.BoundaryMargin * ls[i];
+    }
     if (!Inside(tree, p))
     {
       continue;
@@ -329,6 +387,13 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
   {
     const std::int64_t* f = surfaceTriangles + 3 * t;
+    if (!lockedFaces.empty() &&
+      (!clearOfLocked[f[0]] || !clearOfLocked[f[1]] || !clearOfLocked[f[2]] ||
+        lockedTree.do_intersect(Triangle(P(&S[3 * f[0]]), P(&S[3 * f[1]]), P(&S[3 * f[2]])))))
+    {
+      ++out.SurfaceTrianglesAtLockedCells;
+      continue;
+    }
     if (!usable[f[0]] || !usable[f[1]] || !usable[f[2]])
     {
       continue;
@@ -348,7 +413,8 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   if (sTris.empty())
   {
     error = "nothing of the feature surface is left after trimming it back from the domain "
-            "boundary (every triangle has a point within BoundaryMargin edge lengths of it).";
+            "boundary and the locked cells (every triangle has a point within BoundaryMargin "
+            "edge lengths of them).";
     return false;
   }
   // S must not cross itself (a manifold S is checked with CGAL; TetGen catches the rest).
@@ -720,7 +786,9 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   }
   for (std::size_t v = 0; v < nV; ++v)
   {
-    if (plcIndex[v] >= 0)
+    // Locked nodes stay even where no tetrahedron uses them: the caller's
+    // kept non-tetrahedral cells do (e.g. the inner nodes of a layer stack).
+    if (plcIndex[v] >= 0 || (!options.LockedNodes.empty() && options.LockedNodes[v]))
     {
       outIndex[v] = 0;
     }

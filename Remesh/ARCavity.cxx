@@ -23,7 +23,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <map>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -311,7 +310,10 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   if (!options.LockedCellFaces.empty())
   {
     const std::vector<std::int64_t>& F = options.LockedCellFaces;
-    std::map<std::vector<std::int64_t>, std::pair<int, std::size_t>> seen; // sorted ids: count, position
+    // Each face's ids sorted (same layout as F), then the faces sorted by
+    // them: equal neighbours are a face between two locked cells.
+    std::vector<std::int64_t> sortedIds(F.size());
+    std::vector<std::size_t> start;
     for (std::size_t k = 0; k < F.size();)
     {
       const std::int64_t n = F[k];
@@ -321,32 +323,41 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
           " (each face: its number of nodes, at least 3, then the node ids).";
         return false;
       }
-      std::vector<std::int64_t> key(F.begin() + k + 1, F.begin() + k + 1 + n);
-      for (const std::int64_t v : key)
+      for (std::size_t j = k + 1; j < k + 1 + static_cast<std::size_t>(n); ++j)
       {
-        if (v < 0 || static_cast<std::size_t>(v) >= nV)
+        if (F[j] < 0 || static_cast<std::size_t>(F[j]) >= nV)
         {
-          error = "LockedCellFaces refers to a point that does not exist (" + std::to_string(v) + ").";
+          error = "LockedCellFaces refers to a point that does not exist (" + std::to_string(F[j]) + ").";
           return false;
         }
       }
-      std::sort(key.begin(), key.end());
-      auto& entry = seen[key];
-      ++entry.first;
-      entry.second = k;
+      sortedIds[k] = n;
+      std::copy(F.begin() + k + 1, F.begin() + k + 1 + n, sortedIds.begin() + k + 1);
+      std::sort(sortedIds.begin() + k + 1, sortedIds.begin() + k + 1 + n);
+      start.push_back(k);
       k += 1 + static_cast<std::size_t>(n);
     }
-    for (const auto& e : seen)
+    auto key = [&](std::size_t k) { return sortedIds.begin() + k; };
+    auto less = [&](std::size_t a, std::size_t b) {
+      return std::lexicographical_compare(key(a), key(a) + 1 + sortedIds[a], key(b), key(b) + 1 + sortedIds[b]);
+    };
+    std::sort(start.begin(), start.end(), less);
+    for (std::size_t i = 0; i < start.size();)
     {
-      if (e.second.first != 1)
+      std::size_t j = i + 1;
+      while (j < start.size() && !less(start[i], start[j]))
       {
-        continue;
+        ++j;
       }
-      const std::int64_t* f = &F[e.second.second + 1];
-      for (std::int64_t j = 1; j + 1 < F[e.second.second]; ++j)
+      if (j - i == 1)
       {
-        lockedFaces.emplace_back(P(&V.Points[3 * f[0]]), P(&V.Points[3 * f[j]]), P(&V.Points[3 * f[j + 1]]));
+        const std::int64_t* f = &F[start[i] + 1];
+        for (std::int64_t m = 1; m + 1 < F[start[i]]; ++m)
+        {
+          lockedFaces.emplace_back(P(&V.Points[3 * f[0]]), P(&V.Points[3 * f[m]]), P(&V.Points[3 * f[m + 1]]));
+        }
       }
+      i = j;
     }
   }
   Tree lockedTree(lockedFaces.begin(), lockedFaces.end());

@@ -2,6 +2,7 @@
 #include "vtkEmbeddedRemesh.h"
 
 #include "ARCavity.h"
+#include "ARCellQuality.h"
 #include "ARSurfaceRemesh.h"
 #include "ARTetGeometry.h"
 #include "vtkARMeshKernels.h"
@@ -80,6 +81,104 @@ void AddSurfaceTriangles(const std::vector<vtkDataSet*>& surfaces, vtkAppendPoly
     bare->SetPolys(triangles->GetOutput()->GetPolys());
     append->AddInputData(bare);
   }
+}
+
+/// Quality sums over this process's output cells, for the field data.
+struct QualitySums
+{
+  double NewCells = 0.0;
+  double NewMinDihedral = 180.0;
+  double NewDihedralSum = 0.0;
+  double NewMaxAspectRatio = 0.0;
+  double LayerMaxAspectRatio = 0.0; ///< kept non-tetrahedral 3-D cells (thin by design)
+  double NonPositiveJacobian = 0.0; ///< 3-D cells with a corner Jacobian <= 0
+};
+
+/// Cell arrays MinDihedralAngle, MaxDihedralAngle (degrees) and AspectRatio
+/// (longest / shortest edge) for every tetrahedron, pyramid, wedge,
+/// hexahedron and voxel of `output` (ar::ComputeCellQuality); -1 for 2-D
+/// cells and polyhedra. `region`: 0 kept, 1 new, per cell.
+QualitySums AddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
+{
+  QualitySums sums;
+  const vtkIdType n = output->GetNumberOfCells();
+  vtkNew<vtkDoubleArray> minAngle, maxAngle, aspect;
+  minAngle->SetName("MinDihedralAngle");
+  maxAngle->SetName("MaxDihedralAngle");
+  aspect->SetName("AspectRatio");
+  for (vtkDoubleArray* a : { minAngle.Get(), maxAngle.Get(), aspect.Get() })
+  {
+    a->SetNumberOfTuples(n);
+  }
+  double x[8 * 3];
+  for (vtkIdType c = 0; c < n; ++c)
+  {
+    vtkIdType npts;
+    const vtkIdType* pts;
+    output->GetCellPoints(c, npts, pts);
+    ar::CellShape shape;
+    static const int voxelToHexahedron[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
+    const int type = output->GetCellType(c);
+    switch (type)
+    {
+      case VTK_TETRA:
+        shape = ar::CellShape::Tetrahedron;
+        break;
+      case VTK_PYRAMID:
+        shape = ar::CellShape::Pyramid;
+        break;
+      case VTK_WEDGE:
+        shape = ar::CellShape::Wedge;
+        break;
+      case VTK_HEXAHEDRON:
+      case VTK_VOXEL:
+        shape = ar::CellShape::Hexahedron;
+        break;
+      default:
+        minAngle->SetValue(c, -1.0);
+        maxAngle->SetValue(c, -1.0);
+        aspect->SetValue(c, -1.0);
+        continue;
+    }
+    for (vtkIdType k = 0; k < npts; ++k)
+    {
+      output->GetPoint(pts[type == VTK_VOXEL ? voxelToHexahedron[k] : k], &x[3 * k]);
+    }
+    const ar::CellQuality q = ar::ComputeCellQuality(shape, x);
+    minAngle->SetValue(c, q.MinDihedralAngle);
+    maxAngle->SetValue(c, q.MaxDihedralAngle);
+    aspect->SetValue(c, q.AspectRatio);
+    sums.NonPositiveJacobian += q.MinCornerJacobian > 0.0 ? 0.0 : 1.0;
+    if (region->GetValue(c) == 1)
+    {
+      sums.NewCells += 1.0;
+      sums.NewMinDihedral = std::min(sums.NewMinDihedral, q.MinDihedralAngle);
+      sums.NewDihedralSum += q.MinDihedralAngle;
+      sums.NewMaxAspectRatio = std::max(sums.NewMaxAspectRatio, q.AspectRatio);
+    }
+    else if (shape != ar::CellShape::Tetrahedron)
+    {
+      sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, q.AspectRatio);
+    }
+  }
+  output->GetCellData()->AddArray(minAngle);
+  output->GetCellData()->AddArray(maxAngle);
+  output->GetCellData()->AddArray(aspect);
+  return sums;
+}
+
+/// The quality part of the field data.
+void AddQualityFields(vtkUnstructuredGrid* output, const QualitySums& sums)
+{
+  auto field = [&](const char* name, double value) {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  };
+  const bool any = sums.NewCells > 0.0;
+  field("MinDihedralAngleNew", any ? sums.NewMinDihedral : 0.0);
+  field("MeanDihedralAngleNew", any ? sums.NewDihedralSum / sums.NewCells : 0.0);
+  field("MaxAspectRatioNew", sums.NewMaxAspectRatio);
+  field("MaxAspectRatioLayerCells", sums.LayerMaxAspectRatio);
+  field("NonPositiveJacobianCells", sums.NonPositiveJacobian);
 }
 }
 
@@ -298,6 +397,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   options.LockedNodes.assign(nPoints, 0);
   std::vector<vtkIdType> tetCell, otherCell;
   vtkNew<vtkIdList> ids;
+  vtkNew<vtkGenericCell> lockedCell;
   for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
   {
     const int type = input->GetCellType(c);
@@ -321,6 +421,20 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
         options.LockedNodes[ids->GetId(k)] = 1;
       }
       otherCell.push_back(c);
+      // The 3-D ones (e.g. near-wall layers) bound a region S is trimmed at.
+      if (vtkCellTypes::GetDimension(type) == 3)
+      {
+        input->GetCell(c, lockedCell);
+        for (int f = 0; f < lockedCell->GetNumberOfFaces(); ++f)
+        {
+          vtkCell* face = lockedCell->GetFace(f);
+          options.LockedCellFaces.push_back(face->GetNumberOfPoints());
+          for (vtkIdType k = 0; k < face->GetNumberOfPoints(); ++k)
+          {
+            options.LockedCellFaces.push_back(face->GetPointId(k));
+          }
+        }
+      }
     }
     else
     {
@@ -432,9 +546,6 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   std::vector<vtkIdType> sourceCell; // input cell of each output cell, -1 new
   vtkNew<vtkIntArray> region;
   region->SetName("Region");
-  vtkNew<vtkDoubleArray> minAngle;
-  minAngle->SetName("MinDihedralAngle");
-  double newMin = 180.0, newSum = 0.0;
   vtkIdType newCount = 0;
   for (vtkIdType t = 0; t < nTets; ++t)
   {
@@ -444,17 +555,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     const std::int64_t src = result.SourceCell[t];
     sourceCell.push_back(src >= 0 ? tetCell[src] : -1);
     region->InsertNextValue(src >= 0 ? 0 : 1);
-    double a[6];
-    ar::TetDihedralAngles(&result.Mesh.Points[3 * v[0]], &result.Mesh.Points[3 * v[1]],
-      &result.Mesh.Points[3 * v[2]], &result.Mesh.Points[3 * v[3]], a);
-    const double m = *std::min_element(a, a + 6);
-    minAngle->InsertNextValue(m);
-    if (src < 0)
-    {
-      newMin = std::min(newMin, m);
-      newSum += m;
-      ++newCount;
-    }
+    newCount += src < 0 ? 1 : 0;
   }
   for (vtkIdType c : otherCell)
   {
@@ -485,7 +586,6 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     }
     sourceCell.push_back(c);
     region->InsertNextValue(0);
-    minAngle->InsertNextValue(-1.0);
   }
 
   const double secondsOutput = lap();
@@ -637,7 +737,8 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   }
   const double secondsInterpolation = lap();
   output->GetCellData()->AddArray(region);
-  output->GetCellData()->AddArray(minAngle);
+  const QualitySums quality = AddQualityArrays(output, region);
+  const double secondsQuality = lap();
 
   // ---- Field data and the embedded surface.
   const ar::TetMeshStatistics before = ar::ComputeStatistics(tets);
@@ -649,9 +750,9 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("NewCells", static_cast<double>(newCount));
   field("RemovedNodes", static_cast<double>(result.RemovedNodes));
   field("SurfaceTriangles", static_cast<double>(result.Surface.size() / 3));
+  field("SurfaceTrianglesAtLockedCells", static_cast<double>(result.SurfaceTrianglesAtLockedCells));
   field("SurfaceEdgeLength", edge);
-  field("MinDihedralAngleNew", newCount ? newMin : 0.0);
-  field("MeanDihedralAngleNew", newCount ? newSum / newCount : 0.0);
+  AddQualityFields(output, quality);
   field("SecondsInput", secondsInput);
   field("SecondsSurfaceMeshing", secondsSurface);
   field("SecondsSetup", result.Seconds.Setup);
@@ -662,6 +763,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("SecondsAssembly", result.Seconds.Assembly);
   field("SecondsOutput", secondsOutput);
   field("SecondsInterpolation", secondsInterpolation);
+  field("SecondsQuality", secondsQuality);
   field("RelativeVolumeChange",
     before.TotalVolume > 0.0 ? (after.TotalVolume - before.TotalVolume) / before.TotalVolume : 0.0);
   vtkNew<vtkCellArray> faces;
@@ -1216,10 +1318,8 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   std::vector<vtkIdType> cellSource; // input cell of each output cell; -1: new
   vtkNew<vtkIntArray> region;
   region->SetName("Region");
-  vtkNew<vtkDoubleArray> minAngle;
-  minAngle->SetName("MinDihedralAngle");
-  double stats[4] = { 0.0, 0.0, 180.0, 0.0 }; // kept, new, min new, sum new
-  double volumes[2] = { 0.0, 0.0 };            // before, after
+  double kept = 0.0;                // kept cells
+  double volumes[2] = { 0.0, 0.0 }; // before, after
   auto addTet = [&](const vtkIdType pts[4], vtkIdType src) {
     output->InsertNextCell(VTK_TETRA, 4, pts);
     double x[4][3];
@@ -1227,23 +1327,10 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     {
       points->GetPoint(pts[k], x[k]);
     }
-    double a[6];
-    ar::TetDihedralAngles(x[0], x[1], x[2], x[3], a);
-    const double m = *std::min_element(a, a + 6);
-    minAngle->InsertNextValue(m);
     region->InsertNextValue(src >= 0 ? 0 : 1);
     cellSource.push_back(src);
     volumes[1] += ar::TetSignedVolume(x[0], x[1], x[2], x[3]);
-    if (src >= 0)
-    {
-      stats[0] += 1.0;
-    }
-    else
-    {
-      stats[1] += 1.0;
-      stats[2] = std::min(stats[2], m);
-      stats[3] += m;
-    }
+    kept += src >= 0 ? 1.0 : 0.0;
   };
   for (std::size_t t = 0; t < nT; ++t)
   {
@@ -1357,30 +1444,34 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     outCD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   }
   output->GetCellData()->AddArray(region);
-  output->GetCellData()->AddArray(minAngle);
+  QualitySums quality = AddQualityArrays(output, region);
 
   // ---- Field data, equal on every rank and to the serial run's.
   double surfaceTriangles = static_cast<double>(result.Surface.size() / 3);
   double removedNodes = static_cast<double>(result.RemovedNodes);
-  double minNew = stats[2];
-  vtkARMeshKernels::AllReduceSum(stats, 2);
-  vtkARMeshKernels::AllReduceSum(&stats[3], 1);
+  double sums[3] = { quality.NewCells, quality.NewDihedralSum, quality.NonPositiveJacobian };
+  double maxima[3] = { -quality.NewMinDihedral, quality.NewMaxAspectRatio, quality.LayerMaxAspectRatio };
+  vtkARMeshKernels::AllReduceSum(&kept, 1);
+  vtkARMeshKernels::AllReduceSum(sums, 3);
+  vtkARMeshKernels::AllReduceMax(maxima, 3);
   vtkARMeshKernels::AllReduceSum(volumes, 2);
   vtkARMeshKernels::AllReduceSum(&surfaceTriangles, 1);
   vtkARMeshKernels::AllReduceSum(&removedNodes, 1);
-  minNew = -minNew;
-  vtkARMeshKernels::AllReduceMax(&minNew, 1);
-  minNew = -minNew;
+  quality.NewCells = sums[0];
+  quality.NewDihedralSum = sums[1];
+  quality.NonPositiveJacobian = sums[2];
+  quality.NewMinDihedral = -maxima[0];
+  quality.NewMaxAspectRatio = maxima[1];
+  quality.LayerMaxAspectRatio = maxima[2];
   auto field = [&](const char* name, double value) {
     output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
   };
-  field("KeptCells", stats[0]);
-  field("NewCells", stats[1]);
+  field("KeptCells", kept);
+  field("NewCells", quality.NewCells);
   field("RemovedNodes", removedNodes);
   field("SurfaceTriangles", surfaceTriangles);
   field("SurfaceEdgeLength", edge);
-  field("MinDihedralAngleNew", stats[1] > 0 ? minNew : 0.0);
-  field("MeanDihedralAngleNew", stats[1] > 0 ? stats[3] / stats[1] : 0.0);
+  AddQualityFields(output, quality);
   field("RelativeVolumeChange", volumes[0] > 0.0 ? (volumes[1] - volumes[0]) / volumes[0] : 0.0);
   vtkNew<vtkCellArray> faces;
   for (std::size_t f = 0; f < result.Surface.size(); f += 3)

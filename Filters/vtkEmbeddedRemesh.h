@@ -28,18 +28,30 @@
  *    tetrahedron the same way. Where S reaches V's boundary it is trimmed
  *    back by BoundaryMargin of its edge length: V's boundary faces, and so
  *    its patches, stay bit for bit (cutting S at the boundary would
- *    retriangulate boundary faces).
+ *    retriangulate boundary faces). A hybrid V (e.g. near-wall prism or
+ *    hexahedron layers of a viscous mesh, pyramids, tetrahedra elsewhere;
+ *    the paper's Fig. 4) keeps every non-tetrahedral 3-D cell bit for bit;
+ *    S is trimmed the same way at the region of those cells (dropped inside
+ *    it and within BoundaryMargin of its faces) and the rest of the cavity
+ *    is refilled with tetrahedra.
  * 3. With InterpolateFields (default on) the point and cell arrays of V are
  *    carried over: kept points and cells copy theirs exactly; new points
  *    interpolate in the input cell that contains them; new cells take the
  *    cell values of the input cell that contains their centroid.
  *
  * Output port 0: the new vtkUnstructuredGrid with cell arrays `Region` (0
- * kept, 1 new) and `MinDihedralAngle` (degrees, tetrahedra; -1 for other
- * cells); field data `KeptCells`, `NewCells`, `RemovedNodes`,
- * `SurfaceTriangles`, `MinDihedralAngleNew`, `MeanDihedralAngleNew`,
- * `RelativeVolumeChange`. Output port 1: the embedded surface (the faces of
- * the new mesh that lie on S) as vtkPolyData.
+ * kept, 1 new), `MinDihedralAngle` and `MaxDihedralAngle` (degrees) and
+ * `AspectRatio` (longest / shortest edge) for tetrahedra, pyramids, wedges,
+ * hexahedra and voxels (ar::ComputeCellQuality; -1 for 2-D cells and
+ * polyhedra); field data `KeptCells`, `NewCells`, `RemovedNodes`,
+ * `SurfaceTriangles`, `SurfaceTrianglesAtLockedCells` (S triangles dropped
+ * at the kept non-tetrahedral cells), `SurfaceEdgeLength`,
+ * `MinDihedralAngleNew`, `MeanDihedralAngleNew` (of the cells' smallest
+ * angles), `MaxAspectRatioNew`, `MaxAspectRatioLayerCells` (the kept
+ * non-tetrahedral cells, thin by design), `NonPositiveJacobianCells` (cells
+ * with a corner Jacobian <= 0; 0 for a valid mesh), `RelativeVolumeChange`.
+ * Output port 1: the embedded surface (the faces of the new mesh that lie on
+ * S) as vtkPolyData.
  *
  * Bad input (no tetrahedra, inverted cells, non-finite points, an empty S,
  * S outside V, S crossing itself or another S, S too close to kept cells, a

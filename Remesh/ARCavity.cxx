@@ -353,12 +353,81 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
 
   lap(out.Seconds.Setup);
 
-  // ---- Trim S: inside V and at least BoundaryMargin * l_s from its boundary.
-  std::vector<char> usable(nSurfacePoints, 0);
+  // ---- The region of the locked cells: the faces of its boundary (faces
+  // listed once), fanned into triangles.
+  std::vector<Triangle> lockedFaces;
+  if (!options.LockedCellFaces.empty())
+  {
+    const std::vector<std::int64_t>& F = options.LockedCellFaces;
+    // Each face's ids sorted (same layout as F), then the faces sorted by
+    // them: equal neighbours are a face between two locked cells.
+    std::vector<std::int64_t> sortedIds(F.size());
+    std::vector<std::size_t> start;
+    for (std::size_t k = 0; k < F.size();)
+    {
+      const std::int64_t n = F[k];
+      if (n < 3 || k + 1 + static_cast<std::size_t>(n) > F.size())
+      {
+        error = "LockedCellFaces is malformed at entry " + std::to_string(k) +
+          " (each face: its number of nodes, at least 3, then the node ids).";
+        return false;
+      }
+      for (std::size_t j = k + 1; j < k + 1 + static_cast<std::size_t>(n); ++j)
+      {
+        if (F[j] < 0 || static_cast<std::size_t>(F[j]) >= nV)
+        {
+          error = "LockedCellFaces refers to a point that does not exist (" + std::to_string(F[j]) + ").";
+          return false;
+        }
+      }
+      sortedIds[k] = n;
+      std::copy(F.begin() + k + 1, F.begin() + k + 1 + n, sortedIds.begin() + k + 1);
+      std::sort(sortedIds.begin() + k + 1, sortedIds.begin() + k + 1 + n);
+      start.push_back(k);
+      k += 1 + static_cast<std::size_t>(n);
+    }
+    auto key = [&](std::size_t k) { return sortedIds.begin() + k; };
+    auto less = [&](std::size_t a, std::size_t b) {
+      return std::lexicographical_compare(key(a), key(a) + 1 + sortedIds[a], key(b), key(b) + 1 + sortedIds[b]);
+    };
+    std::sort(start.begin(), start.end(), less);
+    for (std::size_t i = 0; i < start.size();)
+    {
+      std::size_t j = i + 1;
+      while (j < start.size() && !less(start[i], start[j]))
+      {
+        ++j;
+      }
+      if (j - i == 1)
+      {
+        const std::int64_t* f = &F[start[i] + 1];
+        for (std::int64_t m = 1; m + 1 < F[start[i]]; ++m)
+        {
+          lockedFaces.emplace_back(P(&V.Points[3 * f[0]]), P(&V.Points[3 * f[m]]), P(&V.Points[3 * f[m + 1]]));
+        }
+      }
+      i = j;
+    }
+  }
+  Tree lockedTree(lockedFaces.begin(), lockedFaces.end());
+  if (!lockedFaces.empty())
+  {
+    lockedTree.accelerate_distance_queries();
+  }
+
+  // ---- Trim S: inside V and at least BoundaryMargin * l_s from its
+  // boundary; outside the locked cells and at least BoundaryMargin * l_s
+  // from them, and no triangle crossing them.
+  std::vector<char> usable(nSurfacePoints, 0), clearOfLocked(nSurfacePoints, 1);
   std::size_t inside = 0;
   for (std::size_t i = 0; i < nSurfacePoints; ++i)
   {
     const Point p = P(&S[3 * i]);
+    if (!lockedFaces.empty())
+    {
+      clearOfLocked[i] = !Inside(lockedTree, p) &&
+        std::sqrt(CGAL::to_double(lockedTree.squared_distance(p))) >= options.BoundaryMargin * ls[i];
+    }
     if (!Inside(tree, p))
     {
       continue;
@@ -378,6 +447,13 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
   {
     const std::int64_t* f = surfaceTriangles + 3 * t;
+    if (!lockedFaces.empty() &&
+      (!clearOfLocked[f[0]] || !clearOfLocked[f[1]] || !clearOfLocked[f[2]] ||
+        lockedTree.do_intersect(Triangle(P(&S[3 * f[0]]), P(&S[3 * f[1]]), P(&S[3 * f[2]])))))
+    {
+      ++out.SurfaceTrianglesAtLockedCells;
+      continue;
+    }
     if (!usable[f[0]] || !usable[f[1]] || !usable[f[2]])
     {
       continue;
@@ -397,7 +473,8 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   if (sTris.empty())
   {
     error = "nothing of the feature surface is left after trimming it back from the domain "
-            "boundary (every triangle has a point within BoundaryMargin edge lengths of it).";
+            "boundary and the locked cells (every triangle has a point within BoundaryMargin "
+            "edge lengths of them).";
     return false;
   }
   // S must not cross itself (a manifold S is checked with CGAL; TetGen catches the rest).
@@ -795,7 +872,9 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   }
   for (std::size_t v = 0; v < nV; ++v)
   {
-    if (plcIndex[v] >= 0)
+    // Locked nodes stay even where no tetrahedron uses them: the caller's
+    // kept non-tetrahedral cells do (e.g. the inner nodes of a layer stack).
+    if (plcIndex[v] >= 0 || (!options.LockedNodes.empty() && options.LockedNodes[v]))
     {
       outIndex[v] = 0;
     }

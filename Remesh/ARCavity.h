@@ -14,12 +14,18 @@
  * boundary patches do not change. Nodes on V's boundary stay (their faces
  * are kept); only interior nodes vanish.
  *
- * Where S reaches V's boundary it is trimmed back, not cut at the boundary:
+ * Where S reaches V's boundary, or the region of locked non-tetrahedral
+ * cells of a hybrid mesh (CavityOptions::LockedCellFaces, e.g. near-wall
+ * layers, the paper's Fig. 4), it is trimmed back, not cut there:
  * S triangles with a node closer than BoundaryMargin * l_si to V's boundary
- * are dropped (and S outside V is dropped). Cutting S exactly at the boundary
- * would retriangulate boundary faces and move patch edges; the trim keeps
- * every boundary face of V bit for bit, at the price of a gap of about one S
- * edge between S and the boundary.
+ * (or to the locked region) are dropped, and so is S outside V (or inside the
+ * locked region). Cutting S exactly at the boundary would retriangulate
+ * boundary faces and move patch edges; the trim keeps every boundary face of
+ * V, and every locked cell, bit for bit, at the price of a gap of about one S
+ * edge between S and the boundary. (V holds only the tetrahedra, so the faces
+ * between them and the locked cells are part of V's boundary as well; the
+ * explicit locked region also holds where BoundaryTriangles replaces V's
+ * boundary by the domain's.)
  *
  * The refill: TetGen on the cavity boundary plus S (internal facets, marker
  * 2) with quality switches and a size field: l_v at the cavity's boundary
@@ -52,8 +58,19 @@ struct CavityOptions
   /// (FullDomain mode); the domain boundary is still kept exactly.
   bool FullDomain = false;
   /// Per node of V, nonzero where the node must stay (e.g. the nodes of
-  /// non-tetrahedral cells of a hybrid mesh, which are kept uncut). Empty: none.
+  /// non-tetrahedral cells of a hybrid mesh, which are kept uncut): it is
+  /// never removed and is in the output (CavityRemesh::SourcePoint) even
+  /// where no tetrahedron uses it. Empty: none.
   std::vector<std::uint8_t> LockedNodes;
+  /// The faces of the locked cells of a hybrid mesh (e.g. near-wall prism
+  /// or hexahedron layers, which are kept uncut and are not in V): per face
+  /// its number of nodes, then its node ids in V (a polygon, either
+  /// orientation), every face of every locked cell (a face between two
+  /// locked cells comes twice; the faces listed once bound the locked
+  /// region). S is trimmed at that region as at V's boundary: S triangles
+  /// with a node inside it or closer than BoundaryMargin * l_si to it, or
+  /// crossing it, are dropped. Empty: none (no cost).
+  std::vector<std::int64_t> LockedCellFaces;
   /// The domain boundary as triangles (9 coordinates each), used for
   /// trimming S and for the visibility test instead of V's own boundary
   /// faces. For a V that is one rank's piece (or a gathered part) of a
@@ -86,6 +103,7 @@ struct CavityRemesh
     double Setup = 0.0, Removal = 0.0, Cavity = 0.0, Refill = 0.0, Assembly = 0.0;
   } Seconds;
   int RefillAttempts = 0; ///< TetGen runs (more than one when the cavity grew at forced slivers)
+  std::size_t SurfaceTrianglesAtLockedCells = 0; ///< S triangles dropped at the locked cells
 };
 
 /**

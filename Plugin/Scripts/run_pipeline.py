@@ -364,17 +364,41 @@ if os.path.exists(cone_path):
                        field(am, "RelativeVolumeChange"))))
 
     def dihedrals(d):
+        """Every dihedral angle of every 3-D cell (tetrahedra, pyramids,
+        prisms, hexahedra: at each edge, 180 minus the angle between the
+        outward normals of its two faces, a quad's normal the cross product of
+        its diagonals, as ar::CellDihedralAngles does)."""
         from vtkmodules.util.numpy_support import vtk_to_numpy
+        from vtkmodules.vtkCommonDataModel import VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_WEDGE
+        faces = {
+            VTK_TETRA: [(1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1)],
+            VTK_PYRAMID: [(0, 3, 2, 1), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
+            VTK_WEDGE: [(0, 1, 2), (3, 5, 4), (0, 3, 4, 1), (1, 4, 5, 2), (2, 5, 3, 0)],
+            VTK_HEXAHEDRON: [(0, 4, 7, 3), (1, 2, 6, 5), (0, 1, 5, 4), (3, 7, 6, 2), (0, 3, 2, 1), (4, 5, 6, 7)],
+        }
         P = np.asarray(d.Points, dtype=np.float64)
-        T = vtk_to_numpy(d.VTKObject.GetCells().GetConnectivityArray()).reshape(-1, 4)
-        faces = ((1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1))
-        normals = [np.cross(P[T[:, f[1]]] - P[T[:, f[0]]], P[T[:, f[2]]] - P[T[:, f[0]]]) for f in faces]
+        vtk = d.VTKObject
+        types = vtk_to_numpy(vtk.GetCellTypesArray())
+        offsets = vtk_to_numpy(vtk.GetCells().GetOffsetsArray())
+        conn = vtk_to_numpy(vtk.GetCells().GetConnectivityArray())
         out = []
-        for i in range(4):
-            for j in range(i + 1, 4):
-                c = -np.einsum("ij,ij->i", normals[i], normals[j]) / (
-                    np.linalg.norm(normals[i], axis=1) * np.linalg.norm(normals[j], axis=1))
-                out.append(np.degrees(np.arccos(np.clip(c, -1, 1))))
+        for t, fs in faces.items():
+            idx = np.nonzero(types == t)[0]
+            if len(idx) == 0:
+                continue
+            C = conn[offsets[idx][:, None] + np.arange(max(max(f) for f in fs) + 1)]  # the cells' nodes
+            normals = []
+            for f in fs:
+                if len(f) == 3:
+                    n = np.cross(P[C[:, f[1]]] - P[C[:, f[0]]], P[C[:, f[2]]] - P[C[:, f[0]]])
+                else:
+                    n = np.cross(P[C[:, f[2]]] - P[C[:, f[0]]], P[C[:, f[3]]] - P[C[:, f[1]]])
+                normals.append(n / np.linalg.norm(n, axis=1)[:, None])
+            for i in range(len(fs)):
+                for j in range(i + 1, len(fs)):
+                    if len(set(fs[i]) & set(fs[j])) == 2:  # the two faces share an edge
+                        c = -np.einsum("ij,ij->i", normals[i], normals[j])
+                        out.append(np.degrees(np.arccos(np.clip(c, -1, 1))))
         return np.concatenate(out)
 
     import matplotlib

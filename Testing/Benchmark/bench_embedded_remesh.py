@@ -100,7 +100,7 @@ def producer(data):
     return tp
 
 
-stages = ["Input", "SurfaceMeshing", "Setup", "Removal", "Cavity", "Refill", "Assembly", "Output", "Interpolation"]
+stages = ["Input", "SurfaceMeshing", "Setup", "Removal", "Cavity", "Refill", "Assembly", "Output", "Interpolation", "Quality"]
 say("| mesh tets | surface | mode | total s | " + " | ".join(stages) + " | new tets | kept tets | peak RSS MB | TetGen peak MB |")
 say("|---:|---|---|---:|" + "---:|" * len(stages) + "---:|---:|---:|---:|")
 for n in args.sizes:

@@ -303,6 +303,77 @@ TEST(Cavity, LockedNodesStay)
       EXPECT_EQ(kept.count(static_cast<std::int64_t>(j)), 1u) << "locked node " << j;
 }
 
+TEST(Cavity, SurfaceIsTrimmedAtTheLockedLayerRegion)
+{
+  // A hybrid mesh in the unit cube: a slab z <= 0.2 of locked hexahedra (2
+  // layers of 10 x 10, given as their faces, not in V) under Kuhn tetrahedra.
+  // The domain boundary is given as the whole cube's, so the faces between
+  // the tetrahedra and the slab are not part of it: only the locked region
+  // keeps S out of the slab.
+  const int n = 10;
+  const ar::TetMesh v = KuhnCube(n, [](int, int, int k) { return k >= 2; });
+  auto id = [n](int i, int j, int k) { return static_cast<std::int64_t>(i + (n + 1) * (j + (n + 1) * k)); };
+  ar::CavityOptions o;
+  o.LockedNodes.assign(v.NumberOfPoints(), 0);
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const std::int64_t h[8] = { id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
+          id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1) };
+        static const int faces[6][4] = { { 0, 4, 7, 3 }, { 1, 2, 6, 5 }, { 0, 1, 5, 4 }, { 3, 7, 6, 2 },
+          { 0, 3, 2, 1 }, { 4, 5, 6, 7 } };
+        for (const auto& f : faces)
+          o.LockedCellFaces.insert(o.LockedCellFaces.end(), { 4, h[f[0]], h[f[1]], h[f[2]], h[f[3]] });
+        for (const std::int64_t x : h)
+          o.LockedNodes[x] = 1;
+      }
+  // The unit cube's boundary: two triangles per side.
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double side : { 0.0, 1.0 })
+    {
+      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      const double uv[6][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 0 }, { 1, 1 }, { 0, 1 } };
+      for (const auto& c : uv)
+      {
+        double x[3];
+        x[axis] = side;
+        x[a] = c[0];
+        x[b] = c[1];
+        o.BoundaryTriangles.insert(o.BoundaryTriangles.end(), x, x + 3);
+      }
+    }
+  // A plane across the whole cube, into the slab and beyond the cube.
+  const Surface s = Grid(14, 14, -0.2, 1.2, -0.2, 1.2, [](double a, double b) {
+    return std::array<double, 3>{ 0.45 + 0.1 * b, a, b };
+  });
+  ar::CavityOptions none = o;
+  none.LockedCellFaces.clear();
+  EXPECT_NE(Refusal(v, s, none).find("crosses the boundary of the cavity"), std::string::npos)
+    << "without the locked region S reaches into the slab";
+  const ar::CavityRemesh r = Remesh(v, s, o);
+  ExpectValid(v, r);
+  EXPECT_GT(r.SurfaceTrianglesAtLockedCells, 0u);
+  // The trimmed surface stays a margin (one S edge, >= 0.1) above the slab.
+  double lowest = 1.0;
+  for (const std::int64_t p : r.Surface)
+    lowest = std::min(lowest, r.Mesh.Points[3 * p + 2]);
+  EXPECT_GE(lowest, 0.3 - 1e-9);
+  EXPECT_LT(lowest, 0.5) << "and reaches down towards it";
+  // Every locked node is in the output, also the slab's inner nodes (z = 0.1)
+  // that no tetrahedron uses.
+  std::set<std::int64_t> kept(r.SourcePoint.begin(), r.SourcePoint.end());
+  for (std::size_t j = 0; j < v.NumberOfPoints(); ++j)
+    if (o.LockedNodes[j])
+      EXPECT_EQ(kept.count(static_cast<std::int64_t>(j)), 1u) << "locked node " << j;
+  // Malformed faces are refused.
+  ar::CavityOptions bad = o;
+  bad.LockedCellFaces = { 4, 0, 1, 2 };
+  EXPECT_NE(Refusal(v, s, bad).find("LockedCellFaces is malformed"), std::string::npos);
+  bad.LockedCellFaces = { 3, 0, 1, static_cast<std::int64_t>(v.NumberOfPoints()) };
+  EXPECT_NE(Refusal(v, s, bad).find("does not exist"), std::string::npos);
+}
+
 TEST(SurfaceRemesh, IsotropicAtTheTargetLengthKeepingTheOutline)
 {
   // A coarse, badly shaped triangulation of the unit square (two long thin triangles per strip).

@@ -1,0 +1,234 @@
+// Unit tests of ar::ComputeCellQuality and its parts on cells whose
+// dihedral angles, corner Jacobians and aspect ratios are known exactly.
+#include "ARCellQuality.h"
+#include "ARTetGeometry.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace
+{
+constexpr double Deg = 180.0 / M_PI;
+
+/// A right prism over the equilateral triangle of side 1, height h, in VTK
+/// order: the triangle 0 1 2 (z = 0) runs clockwise seen from 3 4 5 (z = h).
+std::vector<double> RightPrism(double h)
+{
+  const double r = std::sqrt(3.0) / 2.0;
+  return { 0, 0, 0, 0.5, r, 0, 1, 0, 0, 0, 0, h, 0.5, r, h, 1, 0, h };
+}
+
+/// A square pyramid: base [-1,1]^2 at z = 0 (counterclockwise seen from the
+/// apex), apex (0, 0, h).
+std::vector<double> Pyramid(double h)
+{
+  return { -1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0, 0, 0, h };
+}
+
+/// A cube of side s with its corner at (x0, x0, x0), VTK hexahedron order.
+std::vector<double> Cube(double s, double x0)
+{
+  std::vector<double> p = { 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1 };
+  for (double& x : p)
+  {
+    x = x0 + s * x;
+  }
+  return p;
+}
+
+int Count(const double* values, int n, double target)
+{
+  return static_cast<int>(std::count_if(values, values + n, [&](double v) { return std::abs(v - target) < 1e-12; }));
+}
+}
+
+TEST(CellQuality, Counts)
+{
+  EXPECT_EQ(ar::NumberOfEdges(ar::CellShape::Tetrahedron), 6);
+  EXPECT_EQ(ar::NumberOfEdges(ar::CellShape::Pyramid), 8);
+  EXPECT_EQ(ar::NumberOfEdges(ar::CellShape::Wedge), 9);
+  EXPECT_EQ(ar::NumberOfEdges(ar::CellShape::Hexahedron), 12);
+  EXPECT_EQ(ar::NumberOfFaces(ar::CellShape::Tetrahedron), 4);
+  EXPECT_EQ(ar::NumberOfFaces(ar::CellShape::Pyramid), 5);
+  EXPECT_EQ(ar::NumberOfFaces(ar::CellShape::Wedge), 5);
+  EXPECT_EQ(ar::NumberOfFaces(ar::CellShape::Hexahedron), 6);
+}
+
+TEST(CellQuality, RightEquilateralPrism)
+{
+  const double h = 2.0;
+  const std::vector<double> p = RightPrism(h);
+  double a[9];
+  ar::CellDihedralAngles(ar::CellShape::Wedge, p.data(), a);
+  // Six edges between a triangle and a side quad: 90; three between side quads: 60.
+  EXPECT_EQ(Count(a, 9, 90.0), 6);
+  EXPECT_EQ(Count(a, 9, 60.0), 3);
+  const ar::CellQuality q = ar::ComputeCellQuality(ar::CellShape::Wedge, p.data());
+  EXPECT_NEAR(q.MinDihedralAngle, 60.0, 1e-12);
+  EXPECT_NEAR(q.MaxDihedralAngle, 90.0, 1e-12);
+  EXPECT_NEAR(q.AspectRatio, 2.0, 1e-15);
+  // Every corner: |e1 x e2| h = sin(60) * h; scaled: sin(60).
+  double j[6];
+  ar::CellCornerJacobians(ar::CellShape::Wedge, p.data(), j);
+  for (double v : j)
+  {
+    EXPECT_NEAR(v, std::sqrt(3.0) / 2.0 * h, 1e-14);
+  }
+  EXPECT_NEAR(q.MinScaledJacobian, std::sqrt(3.0) / 2.0, 1e-14);
+}
+
+TEST(CellQuality, InvertedPrism)
+{
+  // The two triangles swapped: the orientation of Gmsh's prism, inverted for VTK.
+  std::vector<double> p = RightPrism(1.0);
+  std::rotate(p.begin(), p.begin() + 9, p.end());
+  double j[6];
+  ar::CellCornerJacobians(ar::CellShape::Wedge, p.data(), j);
+  for (double v : j)
+  {
+    EXPECT_NEAR(v, -std::sqrt(3.0) / 2.0, 1e-14);
+  }
+  EXPECT_LT(ar::ComputeCellQuality(ar::CellShape::Wedge, p.data()).MinCornerJacobian, 0.0);
+  // One top node pushed below the bottom triangle: that corner and the one
+  // below it are inverted, the far triangle's other corners are not.
+  std::vector<double> q = RightPrism(1.0);
+  q[3 * 3 + 2] = -0.5;
+  ar::CellCornerJacobians(ar::CellShape::Wedge, q.data(), j);
+  EXPECT_LT(j[0], 0.0);
+  EXPECT_LT(j[3], 0.0);
+  EXPECT_GT(j[1], 0.0);
+  EXPECT_GT(j[2], 0.0);
+  EXPECT_LT(ar::ComputeCellQuality(ar::CellShape::Wedge, q.data()).MinCornerJacobian, 0.0);
+}
+
+TEST(CellQuality, Cube)
+{
+  const std::vector<double> p = Cube(2.0, -3.0);
+  double a[12], j[8];
+  ar::CellDihedralAngles(ar::CellShape::Hexahedron, p.data(), a);
+  EXPECT_EQ(Count(a, 12, 90.0), 12);
+  ar::CellCornerJacobians(ar::CellShape::Hexahedron, p.data(), j);
+  EXPECT_EQ(Count(j, 8, 8.0), 8);
+  const ar::CellQuality q = ar::ComputeCellQuality(ar::CellShape::Hexahedron, p.data());
+  EXPECT_NEAR(q.MinScaledJacobian, 1.0, 1e-15);
+  EXPECT_NEAR(q.AspectRatio, 1.0, 1e-15);
+  // Bottom and top swapped: every corner inverted.
+  std::vector<double> r(p.begin() + 12, p.end());
+  r.insert(r.end(), p.begin(), p.begin() + 12);
+  ar::CellCornerJacobians(ar::CellShape::Hexahedron, r.data(), j);
+  EXPECT_EQ(Count(j, 8, -8.0), 8);
+}
+
+TEST(CellQuality, NonPlanarQuadUsesItsAverageNormal)
+{
+  // Unit cube with node 6 raised by t: the top face is not planar. Its
+  // average normal (diagonals' cross product) is (-t, -t, 2); the right face
+  // stays the plane x = 1, so the angle at edge 5-6 is acos(t / sqrt(2t^2 + 4)).
+  std::vector<double> p = Cube(1.0, 0.0);
+  const double t = 1.0;
+  p[3 * 6 + 2] += t;
+  double a[12];
+  ar::CellDihedralAngles(ar::CellShape::Hexahedron, p.data(), a);
+  // Edges in order of (smaller node, larger node): 01 03 04 12 15 23 26 37 45 47 56 67.
+  EXPECT_NEAR(a[10], std::acos(t / std::sqrt(2 * t * t + 4)) * Deg, 1e-12);
+  EXPECT_NEAR(a[10], std::acos(1.0 / std::sqrt(6.0)) * Deg, 1e-12);
+  EXPECT_NEAR(a[0], 90.0, 1e-12); // 01: bottom and front, both planar and untouched
+}
+
+TEST(CellQuality, RegularTetrahedron)
+{
+  // Edge length sqrt(8): corners of a cube of side 2.
+  const double p[12] = { 1, 1, 1, -1, 1, -1, 1, -1, -1, -1, -1, 1 };
+  ASSERT_GT(ar::TetSignedVolume(p, p + 3, p + 6, p + 9), 0.0);
+  double a[6], b[6], j[4];
+  ar::CellDihedralAngles(ar::CellShape::Tetrahedron, p, a);
+  ar::TetDihedralAngles(p, p + 3, p + 6, p + 9, b);
+  const double regular = std::acos(1.0 / 3.0) * Deg; // 70.5288 degrees
+  for (int e = 0; e < 6; ++e)
+  {
+    EXPECT_NEAR(a[e], regular, 1e-12);
+    EXPECT_NEAR(a[e], b[e], 1e-12);
+  }
+  EXPECT_NEAR(regular, 70.5288, 1e-4);
+  // Every corner: 6 V = a^3 / sqrt(2) = 16 (a = sqrt(8)); scaled 1 / sqrt(2).
+  ar::CellCornerJacobians(ar::CellShape::Tetrahedron, p, j);
+  for (double v : j)
+  {
+    EXPECT_NEAR(v, 16.0, 1e-12);
+    EXPECT_NEAR(v, 6.0 * ar::TetSignedVolume(p, p + 3, p + 6, p + 9), 1e-12);
+  }
+  const ar::CellQuality q = ar::ComputeCellQuality(ar::CellShape::Tetrahedron, p);
+  EXPECT_NEAR(q.MinScaledJacobian, 1.0 / std::sqrt(2.0), 1e-14);
+  EXPECT_NEAR(q.AspectRatio, 1.0, 1e-15);
+}
+
+TEST(CellQuality, TetrahedraAgreeWithTetDihedralAngles)
+{
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    double p[12];
+    for (double& x : p)
+    {
+      x = u(rng);
+    }
+    if (ar::TetSignedVolume(p, p + 3, p + 6, p + 9) < 0.0)
+    {
+      std::swap_ranges(p + 3, p + 6, p + 6);
+    }
+    double a[6], b[6];
+    ar::CellDihedralAngles(ar::CellShape::Tetrahedron, p, a);
+    ar::TetDihedralAngles(p, p + 3, p + 6, p + 9, b);
+    for (int e = 0; e < 6; ++e)
+    {
+      EXPECT_NEAR(a[e], b[e], 1e-9);
+    }
+  }
+}
+
+TEST(CellQuality, SquarePyramid)
+{
+  for (const double h : { std::sqrt(2.0), 3.0 })
+  {
+    // Base edges: atan(h / 1) between the base and a side; side edges:
+    // 180 - acos(1 / (1 + h^2)) between two sides (outward normals (h, 0, 1)
+    // and (0, h, 1)).
+    const std::vector<double> p = Pyramid(h);
+    double a[8], j[5];
+    ar::CellDihedralAngles(ar::CellShape::Pyramid, p.data(), a);
+    const double base = std::atan(h) * Deg, side = 180.0 - std::acos(1.0 / (1.0 + h * h)) * Deg;
+    EXPECT_EQ(Count(a, 8, base), 4) << "h = " << h;
+    EXPECT_EQ(Count(a, 8, side), 4) << "h = " << h;
+    // Base corners: det((2,0,0), (0,2,0), (1,1,h)) = 4 h; the apex over each
+    // quarter of the base (area 1): 6 V = 2 h.
+    ar::CellCornerJacobians(ar::CellShape::Pyramid, p.data(), j);
+    for (int k = 0; k < 4; ++k)
+    {
+      EXPECT_NEAR(j[k], 4.0 * h, 1e-12);
+    }
+    EXPECT_NEAR(j[4], 2.0 * h, 1e-12);
+    const ar::CellQuality q = ar::ComputeCellQuality(ar::CellShape::Pyramid, p.data());
+    EXPECT_NEAR(q.MinCornerJacobian, 2.0 * h, 1e-12);
+    const double lateral = std::sqrt(2.0 + h * h); // base edges: 2
+    EXPECT_NEAR(q.AspectRatio, std::max(lateral, 2.0) / std::min(lateral, 2.0), 1e-14);
+  }
+  // h = sqrt(2): all eight edges have length 2 (Johnson's J1): the angles
+  // are acos(1/sqrt(3)) = 54.7356 and 180 - acos(1/3) = 109.4712.
+  double a[8];
+  ar::CellDihedralAngles(ar::CellShape::Pyramid, Pyramid(std::sqrt(2.0)).data(), a);
+  EXPECT_NEAR(*std::min_element(a, a + 8), 54.7356, 1e-4);
+  EXPECT_NEAR(*std::max_element(a, a + 8), 109.4712, 1e-4);
+  EXPECT_NEAR(ar::CellAspectRatio(ar::CellShape::Pyramid, Pyramid(std::sqrt(2.0)).data()), 1.0, 1e-15);
+  // The apex below the base: every corner inverted.
+  double j[5];
+  ar::CellCornerJacobians(ar::CellShape::Pyramid, Pyramid(-1.0).data(), j);
+  for (double v : j)
+  {
+    EXPECT_LT(v, 0.0);
+  }
+}

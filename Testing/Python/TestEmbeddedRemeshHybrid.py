@@ -1,0 +1,285 @@
+"""EmbeddedRemesh on a hybrid mesh with near-wall layers (paper Fig. 4):
+Data/hybrid_wall.vtu (Data/make_hybrid_wall.py: the unit cube, five layers of
+prisms and hexahedra on the wall z = 0 up to z = 0.1, pyramids on the
+hexahedra, tetrahedra above) and the analytic oblique shock's plane as S,
+which crosses the wall and the layers.
+- every layer cell (prism, hexahedron, pyramid) of the input is in the
+  output bit for bit: the same points, the same connectivity up to the point
+  renumbering, the same cell data; the fields at their points too;
+- S is trimmed at the layer region's edge: no vertex of the embedded surface
+  is within BoundaryMargin times its longest edge of a layer cell, and no
+  embedded triangle reaches into one; the embedded surface lies on the plane
+  and still covers every point of the plane that is a margin and one S
+  triangle away from the domain boundary and the layers;
+- validity as TestEmbeddedRemesh: every corner Jacobian of every cell
+  positive (tetrahedra, prisms, hexahedra, pyramids; no NonPositiveJacobian
+  cells reported), conforming (no triangle or quad face in more than two
+  cells), the boundary equal to the input's face for face (triangles and
+  quads) and watertight (every boundary edge in two boundary faces), volume
+  conserved to 1e-9, every embedded triangle a face between two cells;
+- quality: the new tetrahedra's smallest dihedral angle >= 10 degrees, apart
+  from those next to a kept cell with a worse angle; the cell arrays
+  MinDihedralAngle / MaxDihedralAngle / AspectRatio are right for every cell
+  type (the layer cells are right prisms over the wall's triangles and
+  quads: their dihedral angles are the wall polygons' angles and 90).
+"""
+import numpy as np
+from paraview.simple import *
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import reference, vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonDataModel import (
+    VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_WEDGE, vtkStaticCellLocator, vtkGenericCell)
+from vtkmodules.vtkFiltersExtraction import vtkExtractCellsByType
+from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
+
+import artest
+from artest import check
+from make_hybrid_wall import corner_jacobians
+
+artest.load_plugin(globals())
+messages = vtkStringOutputWindow()
+vtkOutputWindow.SetInstance(messages)
+
+LAYER_TYPES = (VTK_WEDGE, VTK_HEXAHEDRON, VTK_PYRAMID)
+# Faces of each cell type, outward for a valid cell (VTK's order).
+FACES = {
+    VTK_TETRA: [(1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1)],
+    VTK_PYRAMID: [(0, 3, 2, 1), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
+    VTK_WEDGE: [(0, 1, 2), (3, 5, 4), (0, 3, 4, 1), (1, 4, 5, 2), (2, 5, 3, 0)],
+    VTK_HEXAHEDRON: [(0, 4, 7, 3), (1, 2, 6, 5), (0, 1, 5, 4), (3, 7, 6, 2), (0, 3, 2, 1), (4, 5, 6, 7)],
+}
+MARGIN = 1.0        # EmbeddedRemesh's BoundaryMargin (default)
+EDGE = 0.05         # SurfaceEdgeLength: S finer than the mesh (h = 0.1)
+
+
+def cells_of(ds):
+    """Per cell: its type and its point ids (a list of arrays)."""
+    vtk = ds.VTKObject
+    offsets = vtk_to_numpy(vtk.GetCells().GetOffsetsArray())
+    conn = vtk_to_numpy(vtk.GetCells().GetConnectivityArray())
+    types = vtk_to_numpy(vtk.GetCellTypesArray())
+    return types, [conn[offsets[c]:offsets[c + 1]] for c in range(len(types))]
+
+
+def by_type(types, cells, t):
+    idx = np.nonzero(types == t)[0]
+    return idx, (np.array([cells[c] for c in idx]) if len(idx) else np.zeros((0, 1), dtype=np.int64))
+
+
+def coord_key(P, ids):
+    c = np.round(P[list(ids)] * 1e9).astype(np.int64)
+    return tuple(sorted(map(tuple, c)))
+
+
+def faces(P, types, cells):
+    """Every face (by its sorted rounded corner coordinates): how many cells
+    use it, and the corners of one of them."""
+    count, corners = {}, {}
+    for t, ids in zip(types, cells):
+        for f in FACES[int(t)]:
+            key = coord_key(P, ids[list(f)])
+            count[key] = count.get(key, 0) + 1
+            corners[key] = ids[list(f)]
+    return count, corners
+
+
+def volumes(proxy):
+    return np.asarray(artest.fetch(CellSize(Input=proxy, ComputeVolume=1, ComputeArea=0, ComputeLength=0,
+                                            ComputeVertexCount=0)).CellData["Volume"])
+
+
+def polygon_angles(P, poly):
+    """Interior angles (degrees) of each polygon (rows of point ids)."""
+    n = poly.shape[1]
+    out = []
+    for k in range(n):
+        a, b, c = P[poly[:, (k - 1) % n]], P[poly[:, k]], P[poly[:, (k + 1) % n]]
+        u, v = a - b, c - b
+        cos = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
+        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return np.column_stack(out)
+
+
+def edge_ratio(P, cells, t):
+    edges = set()
+    for f in FACES[t]:
+        for k in range(len(f)):
+            edges.add(tuple(sorted((f[k], f[(k + 1) % len(f)]))))
+    L = np.column_stack([np.linalg.norm(P[cells[:, a]] - P[cells[:, b]], axis=1) for a, b in edges])
+    return L.max(axis=1) / L.min(axis=1)
+
+
+def locator_of(polydata):
+    loc = vtkStaticCellLocator()
+    loc.SetDataSet(polydata)
+    loc.BuildLocator()
+    return loc
+
+
+def distance(loc, x):
+    closest, cid, sub, d2 = [0.0, 0.0, 0.0], reference(0), reference(0), reference(0.0)
+    loc.FindClosestPoint(list(x), closest, vtkGenericCell(), cid, sub, d2)
+    return float(np.sqrt(d2.get()))
+
+
+# ---- Input and run.
+mesh = XMLUnstructuredGridReader(FileName=[artest.data("hybrid_wall.vtu")])
+src = artest.fetch(mesh)
+n = artest.field(src, "ShockNormal")
+o = artest.field(src, "ShockOrigin")
+u = np.cross(n, [0.0, 0.0, 1.0])
+u /= np.linalg.norm(u)
+v = np.cross(n, u)
+plane = Plane(XResolution=20, YResolution=20)  # the shock plane, 3 x 3 about the cube's centre
+plane.Origin = list(o - 1.5 * u - 1.5 * v)
+plane.Point1 = list(o + 1.5 * u - 1.5 * v)
+plane.Point2 = list(o - 1.5 * u + 1.5 * v)
+er = EmbeddedRemesh(Input=mesh, Surfaces=[plane], SurfaceEdgeLength=EDGE, BoundaryMargin=MARGIN)
+out = artest.fetch(er)
+emb = artest.fetch(er, 1)
+check("Region" in out.CellData.keys() and not messages.GetOutput().strip(),
+      "EmbeddedRemesh ran without an error or warning %r" % messages.GetOutput()[-300:].strip())
+
+P0, P1 = np.asarray(src.Points, dtype=np.float64), np.asarray(out.Points, dtype=np.float64)
+types0, cells0 = cells_of(src)
+types1, cells1 = cells_of(out)
+region = np.asarray(out.CellData["Region"])
+layer0 = np.isin(types0, LAYER_TYPES)
+artest.say("input: %d tetrahedra, %d prisms, %d hexahedra, %d pyramids; output %d cells (%d new)"
+           % tuple([int((types0 == t).sum()) for t in (VTK_TETRA, VTK_WEDGE, VTK_HEXAHEDRON, VTK_PYRAMID)]
+                   + [len(types1), int((region == 1).sum())]))
+
+# ---- Every layer cell kept bit for bit.
+index1 = {P1[i].tobytes(): i for i in range(len(P1))}
+cell_of = {(int(t), tuple(ids)): c for c, (t, ids) in enumerate(zip(types1, cells1)) if t != VTK_TETRA}
+match = []
+for c in np.nonzero(layer0)[0]:
+    mapped = tuple(index1.get(P0[i].tobytes(), -1) for i in cells0[c])
+    match.append(cell_of.get((int(types0[c]), mapped), -1))
+match = np.array(match)
+check(len(match) == 1054 and (match >= 0).all(),
+      "all %d layer cells (640 prisms, 345 hexahedra, 69 pyramids) are in the output with the same "
+      "points (bit for bit) in the same order (%d missing)" % (len(match), int((match < 0).sum())))
+check(int(np.isin(types1, LAYER_TYPES).sum()) == len(match) and (region[match[match >= 0]] == 0).all(),
+      "and no other non-tetrahedral cell; they are all Region 0")
+same = all(np.array_equal(np.asarray(src.CellData[a])[layer0][match >= 0], np.asarray(out.CellData[a])[match[match >= 0]])
+           for a in src.CellData.keys())
+check(same, "their cell data (%s) equal the input's exactly" % ", ".join(src.CellData.keys()))
+layer_points = np.unique(np.concatenate([cells0[c] for c in np.nonzero(layer0)[0]]))
+out_points = np.array([index1[P0[i].tobytes()] for i in layer_points])
+same = all(np.array_equal(np.asarray(src.PointData[a])[layer_points], np.asarray(out.PointData[a])[out_points])
+           for a in src.PointData.keys())
+check(same, "the point data at their %d points equal the input's exactly" % len(layer_points))
+
+# ---- Validity.
+for t, name in ((VTK_TETRA, "tetrahedra"), (VTK_WEDGE, "prisms"), (VTK_HEXAHEDRON, "hexahedra"),
+                (VTK_PYRAMID, "pyramids")):
+    idx, cells = by_type(types1, cells1, t)
+    j = corner_jacobians(P1, cells, t)
+    check(len(idx) > 0 and j.min() > 0, "every corner Jacobian of the %d %s is positive (min %.3e)"
+          % (len(idx), name, j.min()))
+check(artest.field(out, "NonPositiveJacobianCells")[0] == 0, "NonPositiveJacobianCells is 0")
+vol0, vol1 = volumes(mesh), volumes(er)
+check(vol1.min() > 0 and abs(vol1.sum() / vol0.sum() - 1) < 1e-9,
+      "every cell has a positive volume, the total is conserved (%.1e relative)" % (vol1.sum() / vol0.sum() - 1))
+count0, _ = faces(P0, types0, cells0)
+count1, corners1 = faces(P1, types1, cells1)
+check(max(count1.values()) <= 2, "conforming: no triangle or quad face in more than two cells")
+b0 = {k for k, c in count0.items() if c == 1}
+b1 = {k for k, c in count1.items() if c == 1}
+nquads = sum(1 for k in b0 if len(k) == 4)
+check(b0 == b1, "the boundary is the input's, face for face (%d faces, %d of them quads)" % (len(b0), nquads))
+edges = {}
+for k in b1:
+    ids = corners1[k]
+    for a in range(len(ids)):
+        e = tuple(sorted((int(ids[a]), int(ids[(a + 1) % len(ids)]))))
+        edges[e] = edges.get(e, 0) + 1
+check(set(edges.values()) == {2}, "watertight: each of the %d boundary edges is in two boundary faces" % len(edges))
+S = vtk_to_numpy(emb.VTKObject.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+PS = np.asarray(emb.Points, dtype=np.float64)
+on = [count1.get(coord_key(PS, tri), 0) for tri in S]
+check(len(S) > 100 and all(c == 2 for c in on),
+      "all %d triangles of the embedded surface are faces between two cells" % len(S))
+
+# ---- S trimmed at the layer region's edge; the rest of S covered.
+used = np.unique(S)
+dplane = np.abs((PS[used] - o) @ n)
+# (the Plane source's points are single precision: S is the plane to ~1e-8)
+check(dplane.max() < 1e-6, "the embedded surface lies on the plane (%.1e)" % dplane.max())
+extract = vtkExtractCellsByType()
+extract.SetInputData(src.VTKObject)
+for t in LAYER_TYPES:
+    extract.AddCellType(t)
+skin = vtkGeometryFilter()
+skin.SetInputConnection(extract.GetOutputPort())
+skin.Update()
+layers = locator_of(skin.GetOutput())
+domain_skin = vtkGeometryFilter()
+domain_skin.SetInputData(src.VTKObject)
+domain_skin.Update()
+domain = locator_of(domain_skin.GetOutput())
+longest = np.zeros(len(PS))
+for k in range(3):
+    a, b = S[:, k], S[:, (k + 1) % 3]
+    L = np.linalg.norm(PS[a] - PS[b], axis=1)
+    np.maximum.at(longest, a, L)
+    np.maximum.at(longest, b, L)
+slack = np.array([distance(layers, PS[i]) - MARGIN * longest[i] for i in used])
+check(slack.min() >= -1e-12, "no embedded vertex within BoundaryMargin x its longest edge of a layer cell "
+      "(closest: %.4f above the margin)" % slack.min())
+centroids = PS[S].mean(axis=1)
+check(min(distance(layers, x) for x in centroids) > 0 and PS[used, 2].min() > 0.1,
+      "no embedded triangle reaches into the layers (lowest vertex z = %.3f, layer top 0.1)" % PS[used, 2].min())
+check(artest.field(out, "SurfaceTrianglesAtLockedCells")[0] > 0,
+      "S triangles were dropped at the layers (%d)" % artest.field(out, "SurfaceTrianglesAtLockedCells")[0])
+# Every point of the plane at least (margin + 1) S edges (CGAL's isotropic
+# remeshing keeps edges below 4/3 of the target) from the domain boundary and
+# from the layers lies in an S triangle all of whose corners survive the trim.
+band = (MARGIN + 1) * max(4.0 / 3.0 * EDGE, longest.max())
+g = np.linspace(-1.0, 1.0, 81)
+samples = [o + a * u + b * v for a in g for b in g]
+samples = [x for x in samples if np.all(x > 0) and np.all(x < 1)
+           and distance(domain, x) > band and distance(layers, x) > band]
+surface = locator_of(emb.VTKObject)
+gap = max(distance(surface, x) for x in samples)
+check(len(samples) > 100 and gap < 1e-6,
+      "the embedded surface covers all %d sample points of the plane farther than %.3f from the boundary and "
+      "the layers (largest gap %.1e)" % (len(samples), band, gap))
+
+# ---- Quality arrays for every cell type; new tetrahedra >= 10 degrees.
+mind, maxd = np.asarray(out.CellData["MinDihedralAngle"]), np.asarray(out.CellData["MaxDihedralAngle"])
+aspect = np.asarray(out.CellData["AspectRatio"])
+check(mind.min() > 0 and (maxd >= mind).all() and aspect.min() >= 1,
+      "MinDihedralAngle, MaxDihedralAngle, AspectRatio are set for every cell of every type")
+for t, name, poly in ((VTK_WEDGE, "prisms", [0, 1, 2]), (VTK_HEXAHEDRON, "hexahedra", [0, 1, 2, 3])):
+    idx, cells = by_type(types1, cells1, t)
+    wall = polygon_angles(P1, cells[:, poly])  # the wall polygon: the right prism's angles are these and 90
+    want_min, want_max = np.minimum(wall.min(axis=1), 90.0), np.maximum(wall.max(axis=1), 90.0)
+    err = max(np.abs(mind[idx] - want_min).max(), np.abs(maxd[idx] - want_max).max())
+    check(err < 1e-6, "%d %s: the dihedral angles are the wall polygon's angles and 90 (error %.1e)"
+          % (len(idx), name, err))
+    check(np.abs(aspect[idx] - edge_ratio(P1, cells, t)).max() < 1e-9,
+          "%s: AspectRatio is the longest / shortest edge (max %.1f, MaxAspectRatioLayerCells %.1f)"
+          % (name, aspect[idx].max(), artest.field(out, "MaxAspectRatioLayerCells")[0]))
+new = np.nonzero(region == 1)[0]
+check(len(new) > 0 and (types1[new] == VTK_TETRA).all(), "the %d new cells are tetrahedra" % len(new))
+# A new tetrahedron under 10 degrees is allowed only next to a kept cell with a worse angle.
+neighbours = {}
+for c, (t, ids) in enumerate(zip(types1, cells1)):
+    for f in FACES[int(t)]:
+        neighbours.setdefault(coord_key(P1, ids[list(f)]), []).append(c)
+excused = 0
+bad = []
+for c in new[mind[new] < 10.0]:
+    near = [d for f in FACES[VTK_TETRA] for d in neighbours[coord_key(P1, cells1[c][list(f)])] if d != c]
+    if any(region[d] == 0 and mind[d] <= mind[c] for d in near):
+        excused += 1
+    else:
+        bad.append(c)
+check(not bad, "every new tetrahedron's min dihedral >= 10 deg (min %.2f, mean %.2f; %d excused next to a "
+      "worse kept cell)" % (mind[new].min(), mind[new].mean(), excused))
+check(abs(artest.field(out, "MinDihedralAngleNew")[0] - mind[new].min()) < 1e-12,
+      "MinDihedralAngleNew is the new cells' minimum")
+
+artest.finish()

@@ -100,7 +100,6 @@ struct QualitySums
 /// cells and polyhedra. `region`: 0 kept, 1 new, per cell.
 QualitySums AddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
 {
-  QualitySums sums;
   const vtkIdType n = output->GetNumberOfCells();
   vtkNew<vtkDoubleArray> minAngle, maxAngle, aspect;
   minAngle->SetName("MinDihedralAngle");
@@ -110,56 +109,87 @@ QualitySums AddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
   {
     a->SetNumberOfTuples(n);
   }
-  double x[8 * 3];
-  for (vtkIdType c = 0; c < n; ++c)
+  // On threads over contiguous ranges of cells (VTK's SMP back end here is
+  // sequential); the sums are combined in range order, so the result does
+  // not depend on timing.
+  const unsigned nThreads = static_cast<unsigned>(std::max<vtkIdType>(1,
+    std::min<vtkIdType>(std::max(1u, std::thread::hardware_concurrency()), n / 20000 + 1)));
+  std::vector<QualitySums> partial(nThreads);
+  auto work = [&](unsigned w) {
+    QualitySums& sums = partial[w];
+    const vtkIdType first = n * w / nThreads, last = n * (w + 1) / nThreads;
+    vtkNew<vtkIdList> scratch;
+    double x[8 * 3];
+    for (vtkIdType c = first; c < last; ++c)
+    {
+      vtkIdType npts;
+      const vtkIdType* pts;
+      output->GetCellPoints(c, npts, pts, scratch); // the thread-safe overload
+      ar::CellShape shape;
+      static const int voxelToHexahedron[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
+      const int type = output->GetCellType(c);
+      switch (type)
+      {
+        case VTK_TETRA:
+          shape = ar::CellShape::Tetrahedron;
+          break;
+        case VTK_PYRAMID:
+          shape = ar::CellShape::Pyramid;
+          break;
+        case VTK_WEDGE:
+          shape = ar::CellShape::Wedge;
+          break;
+        case VTK_HEXAHEDRON:
+        case VTK_VOXEL:
+          shape = ar::CellShape::Hexahedron;
+          break;
+        default:
+          minAngle->SetValue(c, -1.0);
+          maxAngle->SetValue(c, -1.0);
+          aspect->SetValue(c, -1.0);
+          continue;
+      }
+      for (vtkIdType k = 0; k < npts; ++k)
+      {
+        output->GetPoint(pts[type == VTK_VOXEL ? voxelToHexahedron[k] : k], &x[3 * k]);
+      }
+      const ar::CellQuality q = ar::ComputeCellQuality(shape, x);
+      minAngle->SetValue(c, q.MinDihedralAngle);
+      maxAngle->SetValue(c, q.MaxDihedralAngle);
+      aspect->SetValue(c, q.AspectRatio);
+      sums.NonPositiveJacobian += q.MinCornerJacobian > 0.0 ? 0.0 : 1.0;
+      if (region->GetValue(c) == 1)
+      {
+        sums.NewCells += 1.0;
+        sums.NewMinDihedral = std::min(sums.NewMinDihedral, q.MinDihedralAngle);
+        sums.NewDihedralSum += q.MinDihedralAngle;
+        sums.NewMaxAspectRatio = std::max(sums.NewMaxAspectRatio, q.AspectRatio);
+      }
+      else if (shape != ar::CellShape::Tetrahedron)
+      {
+        sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, q.AspectRatio);
+      }
+    }
+  };
+  std::vector<std::thread> workers;
+  for (unsigned w = 1; w < nThreads; ++w)
   {
-    vtkIdType npts;
-    const vtkIdType* pts;
-    output->GetCellPoints(c, npts, pts);
-    ar::CellShape shape;
-    static const int voxelToHexahedron[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
-    const int type = output->GetCellType(c);
-    switch (type)
-    {
-      case VTK_TETRA:
-        shape = ar::CellShape::Tetrahedron;
-        break;
-      case VTK_PYRAMID:
-        shape = ar::CellShape::Pyramid;
-        break;
-      case VTK_WEDGE:
-        shape = ar::CellShape::Wedge;
-        break;
-      case VTK_HEXAHEDRON:
-      case VTK_VOXEL:
-        shape = ar::CellShape::Hexahedron;
-        break;
-      default:
-        minAngle->SetValue(c, -1.0);
-        maxAngle->SetValue(c, -1.0);
-        aspect->SetValue(c, -1.0);
-        continue;
-    }
-    for (vtkIdType k = 0; k < npts; ++k)
-    {
-      output->GetPoint(pts[type == VTK_VOXEL ? voxelToHexahedron[k] : k], &x[3 * k]);
-    }
-    const ar::CellQuality q = ar::ComputeCellQuality(shape, x);
-    minAngle->SetValue(c, q.MinDihedralAngle);
-    maxAngle->SetValue(c, q.MaxDihedralAngle);
-    aspect->SetValue(c, q.AspectRatio);
-    sums.NonPositiveJacobian += q.MinCornerJacobian > 0.0 ? 0.0 : 1.0;
-    if (region->GetValue(c) == 1)
-    {
-      sums.NewCells += 1.0;
-      sums.NewMinDihedral = std::min(sums.NewMinDihedral, q.MinDihedralAngle);
-      sums.NewDihedralSum += q.MinDihedralAngle;
-      sums.NewMaxAspectRatio = std::max(sums.NewMaxAspectRatio, q.AspectRatio);
-    }
-    else if (shape != ar::CellShape::Tetrahedron)
-    {
-      sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, q.AspectRatio);
-    }
+    workers.emplace_back(work, w);
+  }
+  work(0);
+  for (std::thread& t : workers)
+  {
+    t.join();
+  }
+  QualitySums sums;
+  for (const QualitySums& s : partial)
+  {
+    sums.NewCells += s.NewCells;
+    sums.NewMinDihedral = std::min(sums.NewMinDihedral, s.NewMinDihedral);
+    sums.NewDihedralSum += s.NewDihedralSum;
+    sums.NewMaxAspectRatio = std::max(sums.NewMaxAspectRatio, s.NewMaxAspectRatio);
+    sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, s.LayerMaxAspectRatio);
+    sums.NonPositiveJacobian += s.NonPositiveJacobian;
   }
   output->GetCellData()->AddArray(minAngle);
   output->GetCellData()->AddArray(maxAngle);

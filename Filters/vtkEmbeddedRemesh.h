@@ -53,7 +53,8 @@
  * curves on the front plane (the same rule; all cells touching them go) and
  * refills the cavity with CGAL's constrained Delaunay mesher, the curves as
  * edges, new triangles at least MinTriangleAngle where the refinement can
- * reach it (cavity-boundary edges are never split). Each new triangle
+ * reach it (cavity-boundary edges are never split; FULL_DOMAIN remeshes the
+ * whole cross-section, the domain boundary kept). Each new triangle
  * becomes a VTK_WEDGE between the planes, new points come in front/back
  * pairs, kept cells keep their points and node order. Output port 1 holds
  * the embedded surface as quads (the extruded curve segments), each a face

@@ -438,6 +438,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   options.VisibilityTest = this->VisibilityTest;
   options.BoundaryMargin = this->BoundaryMargin;
   options.MinAngle = this->MinTriangleAngle;
+  options.FullDomain = this->Mode == FULL_DOMAIN;
   ar::Cavity2DRemesh result;
   std::string error;
   bool ok = false;

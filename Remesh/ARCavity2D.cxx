@@ -418,6 +418,11 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     {
       continue; // not used by any cell
     }
+    if (options.FullDomain)
+    {
+      removed[j] = 1;
+      continue;
+    }
     const double* xj = &X[2 * j];
     found.clear();
     kd.search(std::back_inserter(found),

@@ -69,6 +69,9 @@ struct Cavity2DOptions
   /// A new triangle is refined when its longest edge exceeds SizeRatio times
   /// the size field at its centroid.
   double SizeRatio = 1.5;
+  /// Remove every node: the whole cross-section is remeshed with the curves
+  /// embedded (FullDomain); the domain boundary is still kept exactly.
+  bool FullDomain = false;
 };
 
 struct Cavity2DRemesh

@@ -308,6 +308,39 @@ TEST(Cavity2D, GradedSizeAndGridAlignedLine)
   EXPECT_GE(r.MinAngleNew, o.MinAngle);
 }
 
+// FullDomain: every cell is replaced, the boundary stays edge for edge.
+TEST(Cavity2D, FullDomain)
+{
+  const ar::Mesh2D grid = QuadGrid(10, 10, 0.1);
+  const Curve line = Line({ 0.05, 0.3 }, { 0.95, 0.6 }, 20);
+  ar::Cavity2DOptions o;
+  o.FullDomain = true;
+  ar::Cavity2DRemesh r;
+  std::string error;
+  ASSERT_TRUE(Remesh(grid, line, o, r, error)) << error;
+  EXPECT_EQ(r.RemovedCells, grid.NumberOfCells());
+  EXPECT_EQ(r.RemovedNodes, 81u); // the interior nodes; the 40 boundary nodes stay
+  double area = 0.0;
+  for (std::size_t c = 0; c < r.Mesh.NumberOfCells(); ++c)
+  {
+    EXPECT_LT(r.SourceCell[c], 0);
+    EXPECT_GT(Area(r.Mesh, c), 0.0);
+    area += Area(r.Mesh, c);
+  }
+  EXPECT_NEAR(area, 1.0, 1e-12);
+  std::set<EdgeKey> b0, b1;
+  for (const auto& e : Edges(grid))
+    if (e.second == 1)
+      b0.insert(e.first);
+  const auto after = Edges(r.Mesh);
+  for (const auto& e : after)
+    if (e.second == 1)
+      b1.insert(e.first);
+  EXPECT_EQ(b0, b1);
+  for (std::size_t s = 0; s < r.Curve.size(); s += 2)
+    EXPECT_EQ(after.at(Edge(r.Mesh, r.Curve[s], r.Curve[s + 1])), 2);
+}
+
 // VisibilityTest: a slot in the domain hides the nodes behind it.
 TEST(Cavity2D, VisibilityAcrossASlot)
 {

@@ -306,6 +306,62 @@ for i in range(4):
     others |= {key(pp, pc[po[f]:po[f + 1]]) for f in range(len(po) - 1)}
 check(others == offp, "the other patches cover exactly the new mesh's other boundary faces (%d)" % len(offp))
 
+# ---- Deterministic: a second run gives the same mesh, bit for bit.
+again = artest.fetch(EmbeddedRemesh(Input=reader, Surfaces=[fit]))
+check(np.array_equal(np.asarray(again.Points), np.asarray(out.Points)) and
+      np.array_equal(vtk_to_numpy(again.VTKObject.GetCells().GetConnectivityArray()),
+                     vtk_to_numpy(out.VTKObject.GetCells().GetConnectivityArray())),
+      "deterministic: a second run gives the same points and cells")
+
+# ---- An unstructured grid carrying patch faces (2-D cells with a PatchId):
+# those on the planes are rebuilt, the others pass through.
+ug = volume.NewInstance()
+ug.DeepCopy(volume)
+for name in [ug.GetCellData().GetArrayName(i) for i in range(ug.GetCellData().GetNumberOfArrays())]:
+    ug.GetCellData().RemoveArray(name)
+pid = vtkIntArray()
+pid.SetName("PatchId")
+for _ in range(ug.GetNumberOfCells()):
+    pid.InsertNextValue(-1)
+n_plane_in = n_outlet = 0
+for t, ids in C0:
+    for f in FACES[t]:
+        q = ids[list(f)]
+        if np.all(P0[q, 2] == zlo) or np.all(P0[q, 2] == zhi):
+            ug.InsertNextCell(9, 4, [int(v) for v in q])
+            pid.InsertNextValue(0)
+            n_plane_in += 1
+        elif np.all(P0[q, 0] == xmax):
+            ug.InsertNextCell(9, 4, [int(v) for v in q])
+            pid.InsertNextValue(1)
+            n_outlet += 1
+ug.GetCellData().AddArray(pid)
+patched = PVTrivialProducer()
+patched.GetClientSideObject().SetOutput(ug)
+pout = artest.fetch(EmbeddedRemesh(Input=patched, Surfaces=[fit]))
+PP = np.asarray(pout.Points, dtype=np.float64)
+pcells = cells_of(pout)
+ppid = np.asarray(pout.CellData["PatchId"])
+solid = [(t, ids) for t, ids in pcells if t in (HEX, WEDGE)]
+plane_keys = [key(PP, ids) for (t, ids), p in zip(pcells, ppid) if p == 0]
+pc = face_counts(PP, solid)
+want = {k for k, n in pc.items() if n == 1 and on_plane(k)}
+check(len(solid) == len(C1) and np.all(ppid[[t in (HEX, WEDGE) for t, _ in pcells]] == -1),
+      "grid with patch cells: the volume is remeshed as before (%d cells)" % len(solid))
+check(len(plane_keys) == len(set(plane_keys)) and set(plane_keys) == want,
+      "grid with patch cells: the %d front/back patch cells (input %d) are exactly the boundary faces on the planes"
+      % (len(plane_keys), n_plane_in))
+check(int(np.sum(ppid == 1)) == n_outlet, "grid with patch cells: the %d outlet patch cells pass through" % n_outlet)
+
+# ---- FullDomain: the whole cross-section remeshed, still one cell deep.
+full = artest.fetch(EmbeddedRemesh(Input=reader, Surfaces=[fit], Mode="FullDomain"))
+FPo = np.asarray(full.Points, dtype=np.float64)
+fcells = cells_of(full)
+fcount = face_counts(FPo, fcells)
+check(all(t == WEDGE for t, _ in fcells) and {k for k, n in fcount.items() if n == 1 and not on_plane(k)} == b0
+      and abs(cell_volumes(full.VTKObject).sum() / v0 - 1) < 1e-9,
+      "FullDomain: %d wedges, the boundary off the planes the input's, volume conserved" % len(fcells))
+
 # ---- Bad input: an error naming the problem, the input unchanged.
 def refused(surfaces, fragment, label, **props):
     before = len(messages.GetOutput())

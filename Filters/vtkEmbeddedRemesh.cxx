@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkEmbeddedRemesh.h"
+#include "vtkEmbeddedRemeshPlanes.h"
 
 #include "ARCavity.h"
 #include "ARCellQuality.h"
@@ -335,13 +336,21 @@ int vtkEmbeddedRemesh::RequestData(
     output->ShallowCopy(input);
     return 1;
   }
-  this->RemeshVolume(volume, surfaces, remeshed, embedded);
+  vtkEmbeddedRemeshPlanes planes;
+  this->RemeshVolume(volume, surfaces, remeshed, embedded, &planes);
   for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
   {
     vtkDataObject* leaf = it->GetCurrentDataObject();
+    vtkSmartPointer<vtkPolyData> rebuilt;
     if (leaf == volume)
     {
       output->SetDataSet(it, remeshed);
+    }
+    else if (planes.Valid &&
+      (rebuilt = vtkEmbeddedRemeshRebuildPatch(vtkPolyData::SafeDownCast(leaf), planes)))
+    {
+      // 2-D mode: a patch on the front/back planes, rebuilt on the new cells.
+      output->SetDataSet(it, rebuilt);
     }
     else if (leaf)
     {
@@ -356,7 +365,8 @@ int vtkEmbeddedRemesh::RequestData(
 
 //------------------------------------------------------------------------------
 int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
-  const std::vector<vtkDataSet*>& surfaces, vtkUnstructuredGrid* output, vtkPolyData* embedded)
+  const std::vector<vtkDataSet*>& surfaces, vtkUnstructuredGrid* output, vtkPolyData* embedded,
+  vtkEmbeddedRemeshPlanes* planes)
 {
   auto passThrough = [&](const std::string& message) {
     vtkErrorMacro(<< message << " The input passes through unchanged.");
@@ -379,6 +389,16 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     stageStart = now;
     return s;
   };
+  // ---- 2-D mode: a one-cell-deep mesh is remeshed on its cross-section.
+  std::string not2D = "TwoDimensional is Off";
+  if (this->TwoDimensional == TWO_DIMENSIONAL_AUTO)
+  {
+    vtkEmbeddedRemeshLayout layout;
+    if (vtkEmbeddedRemeshDetect2D(input, layout, not2D))
+    {
+      return this->Remesh2D(input, layout, surfaces, output, embedded, planes);
+    }
+  }
 
   // ---- The feature surfaces, merged and triangulated.
   vtkNew<vtkAppendPolyData> append;
@@ -478,7 +498,8 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   }
   if (tetCell.empty())
   {
-    return passThrough("The volume mesh has no tetrahedra to remesh.");
+    return passThrough("The volume mesh has no tetrahedra to remesh, and it is not a one-cell-deep "
+                       "(2-D) mesh either (" + not2D + ").");
   }
   this->UpdateProgress(0.1);
   const double secondsInput = lap();
@@ -776,8 +797,17 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   auto field = [&](const char* name, double value) {
     output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
   };
+  vtkIdType keptPoints = 0;
+  for (const std::int64_t src : result.SourcePoint)
+  {
+    keptPoints += src >= 0 ? 1 : 0;
+  }
+  field("TwoDimensional", 0.0);
   field("KeptCells", static_cast<double>(sourceCell.size() - newCount));
   field("NewCells", static_cast<double>(newCount));
+  field("InputNodes", static_cast<double>(nPoints));
+  field("OutputNodes", static_cast<double>(nOut));
+  field("NewNodes", static_cast<double>(nOut - keptPoints));
   field("RemovedNodes", static_cast<double>(result.RemovedNodes));
   field("SurfaceTriangles", static_cast<double>(result.Surface.size() / 3));
   field("SurfaceTrianglesAtLockedCells", static_cast<double>(result.SurfaceTrianglesAtLockedCells));
@@ -873,9 +903,12 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     const bool ghost = ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL);
     if (input->GetCellType(c) != VTK_TETRA)
     {
+      const int type = input->GetCellType(c);
       problem = "EmbeddedRemesh under MPI takes tetrahedral meshes only (cell " + std::to_string(c) +
-        " has type " + std::to_string(input->GetCellType(c)) +
-        "); remesh hybrid or patch-carrying meshes on one rank.";
+        " has type " + std::to_string(type) + "); remesh hybrid or patch-carrying meshes on one rank." +
+        ((type == VTK_HEXAHEDRON || type == VTK_WEDGE) && this->TwoDimensional == TWO_DIMENSIONAL_AUTO
+            ? " The 2-D mode (one-cell-deep meshes) runs on one rank only."
+            : "");
       break;
     }
     input->GetCellPoints(c, ids);
@@ -1535,5 +1568,7 @@ void vtkEmbeddedRemesh::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundaryMargin: " << this->BoundaryMargin << "\n";
   os << indent << "MaxRadiusEdgeRatio: " << this->MaxRadiusEdgeRatio << "\n";
   os << indent << "MinDihedralAngle: " << this->MinDihedralAngle << "\n";
+  os << indent << "TwoDimensional: " << this->TwoDimensional << "\n";
+  os << indent << "MinTriangleAngle: " << this->MinTriangleAngle << "\n";
   os << indent << "InterpolateFields: " << this->InterpolateFields << "\n";
 }

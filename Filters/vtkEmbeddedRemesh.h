@@ -53,6 +53,39 @@
  * Output port 1: the embedded surface (the faces of the new mesh that lie on
  * S) as vtkPolyData.
  *
+ * 2-D mode (TwoDimensional = AUTO, the default, and a one-cell-deep mesh as
+ * OpenFOAM's 2-D cases have: every point on one of two parallel planes
+ * normal to a coordinate axis, every 3-D cell a hexahedron or wedge spanning
+ * both with its depth edges along the axis). Tetrahedralizing such a mesh is
+ * of no use to a 2-D solver, so the cross-section is remeshed instead and
+ * extruded back: the feature surfaces are cut with the mid-depth plane
+ * (vtkCutter, vtkStripper) into curves, resampled at SurfaceEdgeLength
+ * (vtkSplineFilter; 0 = the median longest 2-D edge at the mesh node nearest
+ * to the curve), and ar::RemeshLocalCavity2D removes the nodes near the
+ * curves on the front plane (the same rule; all cells touching them go) and
+ * refills the cavity with CGAL's constrained Delaunay mesher, the curves as
+ * edges, new triangles at least MinTriangleAngle where the refinement can
+ * reach it (cavity-boundary edges are never split; FULL_DOMAIN remeshes the
+ * whole cross-section, the domain boundary kept). Each new triangle
+ * becomes a VTK_WEDGE between the planes, new points come in front/back
+ * pairs, kept cells keep their points and node order. Output port 1 holds
+ * the embedded surface as quads (the extruded curve segments), each a face
+ * of the output mesh. MinDihedralAngle is also given for wedges (a right
+ * prism: the smaller of its triangle's smallest angle and 90 degrees).
+ * Boundary-patch faces on the two planes (2-D cells of the grid, or
+ * multiblock patch leaves such as OpenFOAM's frontAndBack/empty patches) are
+ * rebuilt: the faces of kept cells stay, those of removed cells go and each
+ * new wedge adds its front and back triangles to the patch that held the
+ * face of the input cell containing it (with that face's cell values); all
+ * other patches pass through. Field data adds TwoDimensional (1; 0 in 3-D
+ * mode), InputNodes, OutputNodes, NewNodes, SurfaceQuads and
+ * MinTriangleAngleNew; the node counts are 3-D points (front and back).
+ * The 2-D mode runs on one rank only (refused under MPI).
+ *
+ * Field data in both modes: InputNodes, OutputNodes, NewNodes (points of
+ * the input, of the output, and new ones; RemovedNodes = the input points
+ * that are gone), TwoDimensional.
+ *
  * Bad input (no tetrahedra, inverted cells, non-finite points, an empty S,
  * S outside V, S crossing itself or another S, S too close to kept cells, a
  * TetGen failure) gives an error naming the problem and passes V through
@@ -90,6 +123,8 @@
 class vtkDataSet;
 class vtkPolyData;
 class vtkUnstructuredGrid;
+struct vtkEmbeddedRemeshLayout; // 2-D mode: the two planes and the cells' faces on them
+struct vtkEmbeddedRemeshPlanes; // 2-D mode: what rebuilding the patch leaves needs
 
 class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkEmbeddedRemesh : public vtkDataObjectAlgorithm
 {
@@ -102,6 +137,12 @@ public:
   {
     LOCAL_CAVITY = 0,
     FULL_DOMAIN = 1
+  };
+
+  enum TwoDimensionalModes
+  {
+    TWO_DIMENSIONAL_AUTO = 0, ///< a one-cell-deep mesh is remeshed as 2-D
+    TWO_DIMENSIONAL_OFF = 1   ///< always the 3-D (tetrahedral) path
   };
 
   /// Add a feature surface (input port 1).
@@ -124,6 +165,11 @@ public:
   vtkGetMacro(MaxRadiusEdgeRatio, double);
   vtkSetClampMacro(MinDihedralAngle, double, 0.0, 30.0);
   vtkGetMacro(MinDihedralAngle, double);
+  vtkSetClampMacro(TwoDimensional, int, TWO_DIMENSIONAL_AUTO, TWO_DIMENSIONAL_OFF);
+  vtkGetMacro(TwoDimensional, int);
+  /// 2-D mode: the angle (degrees) the new triangles are refined to reach.
+  vtkSetClampMacro(MinTriangleAngle, double, 0.0, 30.0);
+  vtkGetMacro(MinTriangleAngle, double);
   vtkSetMacro(InterpolateFields, bool);
   vtkGetMacro(InterpolateFields, bool);
   vtkBooleanMacro(InterpolateFields, bool);
@@ -137,9 +183,15 @@ protected:
   int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  /// The remeshing of one volume mesh (the whole input, or a multiblock's volume leaf).
+  /// The remeshing of one volume mesh (the whole input, or a multiblock's
+  /// volume leaf). In 2-D mode, `planes` (when given) receives what the
+  /// multiblock's patch leaves need to be rebuilt.
   int RemeshVolume(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces,
-    vtkUnstructuredGrid* output, vtkPolyData* embedded);
+    vtkUnstructuredGrid* output, vtkPolyData* embedded, vtkEmbeddedRemeshPlanes* planes = nullptr);
+  /// The 2-D mode (a one-cell-deep mesh, `layout` from its detection).
+  int Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRemeshLayout& layout,
+    const std::vector<vtkDataSet*>& surfaces, vtkUnstructuredGrid* output, vtkPolyData* embedded,
+    vtkEmbeddedRemeshPlanes* planes);
   /// The LocalCavity remesh of a distributed volume (MPI, more than one
   /// rank): the cavity is gathered to rank 0, the far field stays. Collective.
   int RemeshDistributed(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces,
@@ -156,6 +208,8 @@ private:
   double BoundaryMargin = 1.0;
   double MaxRadiusEdgeRatio = 1.414;
   double MinDihedralAngle = 12.0;
+  int TwoDimensional = TWO_DIMENSIONAL_AUTO;
+  double MinTriangleAngle = 20.0;
   bool InterpolateFields = true;
 };
 

@@ -8,7 +8,8 @@ feature clusters, their medial points and the fitted, trimmed shock surfaces:
 - Data/wedge15Ma5.vtu, OpenFOAM rhoCentralFoam's Mach 5 flow over a 15 degree
   wedge (hexahedra): ShockSensor (NormalMach, ShockCells) and WeightFunction
   on the conserved variables; the shock angle fitted to the shock cells is
-  compared with the theta-beta-Mach relation.
+  compared with the theta-beta-Mach relation; the mesh adapted to the fitted
+  shock plane by EmbeddedRemesh's 2-D mode (wedge15Ma5_adapted.vtu).
 - Data/oblique_shock_unstructured.vtu, an analytic 3-D oblique shock on a Gmsh
   tetrahedral mesh: the same, compared with the exact shock plane.
 - Data/cone20Ma2p5.vtu (when present), OpenFOAM on a Gmsh mesh around a 20
@@ -222,6 +223,45 @@ picture("wedge15Ma5_shock_surface.png",
         [(weight, translucent_pressure), (surface, red_lines)], top_view,
         "Fitted shock plane, edge-on in red (QuadricFit, %.2f deg; theta-beta-Mach %.2f deg), over the pressure"
         % (plane_angle, exact))
+
+# ---- EmbeddedRemesh in 2-D mode: the wedge is one cell deep, so the
+# cross-section is remeshed around the fitted shock line and extruded into
+# wedges (every cell still spans the depth, as an OpenFOAM 2-D case needs).
+adapted_w = EmbeddedRemesh(Input=wedge, Surfaces=[surface], Mode="LocalCavity")
+aw = local(adapted_w)
+save(adapted_w, "wedge15Ma5_adapted.vtu")
+fw = lambda n: float(np.asarray(aw.FieldData[n])[0])
+summary.append(("wedge15Ma5 EmbeddedRemesh (2-D mode) on the fitted plane: %d -> %d nodes (%d removed, %d new), "
+                "%d -> %d cells" % (fw("InputNodes"), fw("OutputNodes"), fw("RemovedNodes"), fw("NewNodes"),
+                                    src.GetNumberOfCells(), aw.GetNumberOfCells()),
+                int(fw("SurfaceQuads")),
+                "%d kept hexahedra + %d new wedges; new triangles' min / mean angle %.1f / %.1f deg; volume change %.1e"
+                % (fw("KeptCells"), fw("NewCells"), fw("MinTriangleAngleNew"), fw("MeanDihedralAngleNew"),
+                   fw("RelativeVolumeChange"))))
+
+
+def region_edges(display, view):
+    display.Representation = "Surface With Edges"
+    display.EdgeColor = [0.1, 0.1, 0.2]
+    ColorBy(display, ("CELLS", "Region"))
+    lut = GetColorTransferFunction("Region")
+    lut.InterpretValuesAsCategories = 1
+    lut.Annotations = ["0", "kept hexahedra", "1", "new wedges"]
+    lut.IndexedColors = [0.85, 0.85, 0.85, 0.55, 0.75, 1.0]
+    display.SetScalarBarVisibility(view, True)
+    bar = GetScalarBar(lut, view)
+    bar.Title = "Region"
+    bar.TitleColor = [0, 0, 0]
+    bar.LabelColor = [0, 0, 0]
+
+
+shock_view = lambda view: (view.ResetCamera(), setattr(view, "CameraPosition", [0.15, 0.07, 1.0]),
+                           setattr(view, "CameraFocalPoint", [0.15, 0.07, 0.0]), setattr(view, "CameraViewUp", [0, 1, 0]),
+                           setattr(view, "CameraParallelProjection", 1), setattr(view, "CameraParallelScale", 0.1))
+picture("wedge15Ma5_adapted_mesh.png",
+        [(adapted_w, region_edges), (OutputPort(adapted_w, 1), red_lines)], shock_view,
+        "Wedge adapted in 2-D mode (EmbeddedRemesh): %d -> %d nodes; the fitted shock (red) is a layer of faces"
+        % (fw("InputNodes"), fw("OutputNodes")))
 
 # ------------------------------------------------- the analytic 3-D shock
 oblique = XMLUnstructuredGridReader(FileName=[os.path.join(args.data, "oblique_shock_unstructured.vtu")])

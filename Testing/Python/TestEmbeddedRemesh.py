@@ -127,10 +127,10 @@ validate("cone, LocalCavity", cone, cfit, "LocalCavity")
 
 
 # ---- Bad input: an error naming the problem, the input unchanged.
-def refused(mesh, surfaces, fragment, label):
+def refused(mesh, surfaces, fragment, label, **props):
     before = len(messages.GetOutput())
     n_in = artest.fetch(mesh).GetNumberOfCells()
-    out = artest.fetch(EmbeddedRemesh(Input=mesh, Surfaces=surfaces))
+    out = artest.fetch(EmbeddedRemesh(Input=mesh, Surfaces=surfaces, **props))
     text = messages.GetOutput()[before:]
     check(fragment in text, "%s: error says '%s'" % (label, fragment))
     check(out.GetNumberOfCells() == n_in and "Region" not in out.CellData.keys(),
@@ -169,6 +169,7 @@ w.SetDataModeToBinary()
 w.Write()
 refused(XMLUnstructuredGridReader(FileName=[path]), [plane], "is inverted or flat", "inverted cell")
 wedge = XMLUnstructuredGridReader(FileName=[artest.data("wedge15Ma5.vtu")])
-refused(wedge, [plane], "no tetrahedra", "a mesh without tetrahedra")
+# (one cell deep: with TwoDimensional Off, as TestEmbeddedRemesh2D.py covers Auto)
+refused(wedge, [plane], "no tetrahedra", "a mesh without tetrahedra", TwoDimensional="Off")
 
 artest.finish()

@@ -1,0 +1,935 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// vtkEmbeddedRemesh's 2-D mode: a one-cell-deep mesh (OpenFOAM 2-D cases)
+// remeshed on its cross-section and extruded back into hexahedra and wedges.
+#include "vtkEmbeddedRemesh.h"
+#include "vtkEmbeddedRemeshPlanes.h"
+
+#include "ARCavity2D.h"
+#include "vtkARMeshKernels.h"
+
+#include "vtkAppendPolyData.h"
+#include "vtkCell.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCellTypes.h"
+#include "vtkCleanPolyData.h"
+#include "vtkCutter.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkGenericCell.h"
+#include "vtkGeometryFilter.h"
+#include "vtkIdList.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkPlane.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSplineFilter.h"
+#include "vtkStaticCellLocator.h"
+#include "vtkStaticPointLocator.h"
+#include "vtkStripper.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <numeric>
+#include <sstream>
+
+namespace
+{
+using Coord = std::array<double, 3>;
+
+std::vector<vtkIdType> SortedKey(std::vector<vtkIdType> ids)
+{
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+/// The smallest angle of a triangle, degrees.
+double TriangleMinAngle(const double* a, const double* b, const double* c)
+{
+  const double* p[3] = { a, b, c };
+  double smallest = 180.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    double u[3], v[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      u[d] = p[(k + 1) % 3][d] - p[k][d];
+      v[d] = p[(k + 2) % 3][d] - p[k][d];
+    }
+    smallest = std::min(smallest, vtkMath::DegreesFromRadians(vtkMath::AngleBetweenVectors(u, v)));
+  }
+  return smallest;
+}
+
+/// Copies point data at output point `i`: from input point `src`, or
+/// interpolated in the cell of `locator`'s dataset that contains `x`
+/// (the closest cell when none does).
+void InterpolatePointData(vtkDataSet* from, vtkStaticCellLocator* locator, vtkPointData* out,
+  vtkIdType src, const double* x, vtkIdType i, vtkGenericCell* cell, std::vector<double>& weights)
+{
+  if (src >= 0)
+  {
+    out->CopyData(from->GetPointData(), src, i);
+    return;
+  }
+  double pcoords[3], closest[3], dist2;
+  int subId;
+  const double tol2 = 1e-12 * from->GetLength2();
+  vtkIdType c = locator->FindCell(const_cast<double*>(x), tol2, cell, subId, pcoords, weights.data());
+  if (c < 0)
+  {
+    locator->FindClosestPoint(x, closest, cell, c, subId, dist2);
+    cell->EvaluatePosition(closest, nullptr, subId, pcoords, dist2, weights.data());
+  }
+  out->InterpolatePoint(from->GetPointData(), i, cell->PointIds, weights.data());
+}
+}
+
+//------------------------------------------------------------------------------
+bool vtkEmbeddedRemeshDetect2D(vtkUnstructuredGrid* input, vtkEmbeddedRemeshLayout& layout, std::string& why)
+{
+  layout = vtkEmbeddedRemeshLayout();
+  const vtkIdType nPoints = input->GetNumberOfPoints();
+  for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+  {
+    const int type = input->GetCellType(c);
+    const int dim = vtkCellTypes::GetDimension(type);
+    if (type == VTK_HEXAHEDRON || type == VTK_WEDGE)
+    {
+      layout.VolumeCells.push_back(c);
+    }
+    else if (dim == 3 || !(type == VTK_TRIANGLE || type == VTK_QUAD || type == VTK_POLYGON))
+    {
+      why = "cell " + std::to_string(c) + " is a " + vtkCellTypes::GetClassNameFromTypeId(type) +
+        " (a one-cell-deep mesh has hexahedra and wedges, and patch faces)";
+      return false;
+    }
+  }
+  if (layout.VolumeCells.empty())
+  {
+    why = "it has no hexahedra or wedges";
+    return false;
+  }
+  // The two planes: one axis on which the cells' points take two values.
+  std::vector<char> used(nPoints, 0);
+  double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+  double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  vtkIdType npts;
+  const vtkIdType* pts;
+  for (const vtkIdType c : layout.VolumeCells)
+  {
+    input->GetCellPoints(c, npts, pts);
+    for (vtkIdType k = 0; k < npts; ++k)
+    {
+      used[pts[k]] = 1;
+      double x[3];
+      input->GetPoint(pts[k], x);
+      for (int d = 0; d < 3; ++d)
+      {
+        lo[d] = std::min(lo[d], x[d]);
+        hi[d] = std::max(hi[d], x[d]);
+      }
+    }
+  }
+  const double extentMax = std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] });
+  const double tol = 1e-6 * extentMax;
+  std::array<int, 3> axes = { 0, 1, 2 };
+  std::sort(axes.begin(), axes.end(), [&](int a, int b) { return hi[a] - lo[a] < hi[b] - lo[b]; });
+  int axis = -1;
+  for (const int a : axes)
+  {
+    if (!(hi[a] - lo[a] > tol))
+    {
+      continue;
+    }
+    bool two = true;
+    for (vtkIdType i = 0; i < nPoints && two; ++i)
+    {
+      if (used[i])
+      {
+        const double x = input->GetPoints()->GetPoint(i)[a];
+        two = std::abs(x - lo[a]) <= tol || std::abs(x - hi[a]) <= tol;
+      }
+    }
+    if (two)
+    {
+      axis = a;
+      break;
+    }
+  }
+  if (axis < 0)
+  {
+    why = "its points do not lie on two planes normal to a coordinate axis";
+    return false;
+  }
+  layout.Axis = axis;
+  layout.Lo = lo[axis];
+  layout.Hi = hi[axis];
+  auto side = [&](vtkIdType p) { return std::abs(input->GetPoints()->GetPoint(p)[axis] - lo[axis]) <= tol ? 0 : 1; };
+  layout.Partner.assign(nPoints, -1);
+  layout.Faces.resize(layout.VolumeCells.size());
+  vtkNew<vtkGenericCell> cell;
+  for (std::size_t k = 0; k < layout.VolumeCells.size(); ++k)
+  {
+    const vtkIdType c = layout.VolumeCells[k];
+    input->GetCell(c, cell);
+    const vtkIdType n = cell->GetNumberOfPoints();
+    for (int f = 0; f < cell->GetNumberOfFaces(); ++f)
+    {
+      vtkIdList* ids = cell->GetFace(f)->GetPointIds();
+      std::vector<vtkIdType> face(ids->GetPointer(0), ids->GetPointer(0) + ids->GetNumberOfIds());
+      int onLo = 0;
+      for (const vtkIdType p : face)
+      {
+        onLo += side(p) == 0 ? 1 : 0;
+      }
+      if (onLo == static_cast<int>(face.size()))
+      {
+        layout.Faces[k][0] = face;
+      }
+      else if (onLo == 0)
+      {
+        layout.Faces[k][1] = face;
+      }
+    }
+    int depthEdges = 0;
+    for (int e = 0; e < cell->GetNumberOfEdges(); ++e)
+    {
+      vtkIdList* ids = cell->GetEdge(e)->GetPointIds();
+      vtkIdType a = ids->GetId(0), b = ids->GetId(1);
+      if (side(a) == side(b))
+      {
+        continue;
+      }
+      if (side(a) == 1)
+      {
+        std::swap(a, b);
+      }
+      double xa[3], xb[3];
+      input->GetPoint(a, xa);
+      input->GetPoint(b, xb);
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      if (std::abs(xa[u] - xb[u]) > tol || std::abs(xa[v] - xb[v]) > tol ||
+        (layout.Partner[a] >= 0 && layout.Partner[a] != b))
+      {
+        why = "cell " + std::to_string(c) + " has an edge between the planes that is not along the axis";
+        return false;
+      }
+      layout.Partner[a] = b;
+      ++depthEdges;
+    }
+    if (2 * static_cast<vtkIdType>(layout.Faces[k][0].size()) != n ||
+      2 * static_cast<vtkIdType>(layout.Faces[k][1].size()) != n || 2 * depthEdges != n)
+    {
+      why = "cell " + std::to_string(c) + " does not span the two planes with one face on each";
+      return false;
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRemeshLayout& layout,
+  const std::vector<vtkDataSet*>& surfaces, vtkUnstructuredGrid* output, vtkPolyData* embedded,
+  vtkEmbeddedRemeshPlanes* planes)
+{
+  auto passThrough = [&](const std::string& message) {
+    vtkErrorMacro(<< "EmbeddedRemesh (2-D mode): " << message << " The input passes through unchanged.");
+    output->ShallowCopy(input);
+    embedded->Initialize();
+    return 1;
+  };
+  const int axis = layout.Axis, U = (axis + 1) % 3, V = (axis + 2) % 3;
+  const double mid = 0.5 * (layout.Lo + layout.Hi);
+  const vtkIdType nPoints = input->GetNumberOfPoints();
+  const std::size_t nVolume = layout.VolumeCells.size();
+
+  // ---- The cross-section: the front (Lo) faces, counter-clockwise in (U, V).
+  std::vector<vtkIdType> node2d(nPoints, -1), frontPoint;
+  ar::Mesh2D section;
+  section.Points.clear();
+  for (std::size_t k = 0; k < nVolume; ++k)
+  {
+    for (const vtkIdType p : layout.Faces[k][0])
+    {
+      if (node2d[p] < 0)
+      {
+        node2d[p] = 0;
+      }
+    }
+  }
+  for (vtkIdType p = 0; p < nPoints; ++p)
+  {
+    if (node2d[p] == 0)
+    {
+      node2d[p] = static_cast<vtkIdType>(frontPoint.size());
+      frontPoint.push_back(p);
+      const double* x = input->GetPoints()->GetPoint(p);
+      section.Points.push_back(x[U]);
+      section.Points.push_back(x[V]);
+    }
+  }
+  double areaBefore = 0.0;
+  for (std::size_t k = 0; k < nVolume; ++k)
+  {
+    std::vector<std::int64_t> face;
+    for (const vtkIdType p : layout.Faces[k][0])
+    {
+      face.push_back(node2d[p]);
+    }
+    double area = 0.0;
+    for (std::size_t j = 0; j < face.size(); ++j)
+    {
+      const double* a = &section.Points[2 * face[j]];
+      const double* b = &section.Points[2 * face[(j + 1) % face.size()]];
+      area += 0.5 * (a[0] * b[1] - a[1] * b[0]);
+    }
+    if (area < 0.0)
+    {
+      std::reverse(face.begin() + 1, face.end());
+    }
+    areaBefore += std::abs(area);
+    section.Connectivity.insert(section.Connectivity.end(), face.begin(), face.end());
+    section.Offsets.push_back(static_cast<std::int64_t>(section.Connectivity.size()));
+  }
+  // Longest 2-D edge at each node (the default edge length).
+  std::vector<double> lv(frontPoint.size(), 0.0);
+  for (std::size_t c = 0; c < nVolume; ++c)
+  {
+    const std::int64_t n = section.Offsets[c + 1] - section.Offsets[c];
+    const std::int64_t* v = &section.Connectivity[section.Offsets[c]];
+    for (std::int64_t j = 0; j < n; ++j)
+    {
+      const double* a = &section.Points[2 * v[j]];
+      const double* b = &section.Points[2 * v[(j + 1) % n]];
+      const double l = std::hypot(a[0] - b[0], a[1] - b[1]);
+      lv[v[j]] = std::max(lv[v[j]], l);
+      lv[v[(j + 1) % n]] = std::max(lv[v[(j + 1) % n]], l);
+    }
+  }
+
+  // ---- The curves: the surfaces cut with the mid-depth plane.
+  vtkNew<vtkAppendPolyData> append;
+  for (vtkDataSet* ds : surfaces)
+  {
+    if (ds && ds->GetNumberOfCells() > 0)
+    {
+      vtkNew<vtkGeometryFilter> geometry;
+      geometry->SetInputData(ds);
+      geometry->Update();
+      vtkNew<vtkPolyData> bare;
+      bare->SetPoints(geometry->GetOutput()->GetPoints());
+      bare->SetPolys(geometry->GetOutput()->GetPolys());
+      append->AddInputData(bare);
+    }
+  }
+  if (append->GetNumberOfInputConnections(0) == 0)
+  {
+    return passThrough("The feature surface is empty (no Surfaces connected, or none has cells).");
+  }
+  vtkNew<vtkPlane> plane;
+  double origin[3] = { 0.0, 0.0, 0.0 }, normal[3] = { 0.0, 0.0, 0.0 };
+  origin[axis] = mid;
+  normal[axis] = 1.0;
+  plane->SetOrigin(origin);
+  plane->SetNormal(normal);
+  vtkNew<vtkCutter> cutter;
+  cutter->SetInputConnection(append->GetOutputPort());
+  cutter->SetCutFunction(plane);
+  vtkNew<vtkCleanPolyData> clean; // merges the cut's duplicate points, drops degenerate segments
+  clean->SetInputConnection(cutter->GetOutputPort());
+  clean->ToleranceIsAbsoluteOn();
+  clean->SetAbsoluteTolerance(1e-9 * std::sqrt(input->GetLength2()));
+  vtkNew<vtkStripper> stripper;
+  stripper->SetInputConnection(clean->GetOutputPort());
+  stripper->JoinContiguousSegmentsOn();
+  stripper->Update();
+  vtkPolyData* cut = stripper->GetOutput();
+  if (cut->GetNumberOfLines() == 0)
+  {
+    return passThrough("The feature curve is empty: the feature surface does not cross the mid-depth "
+                       "plane of the mesh.");
+  }
+  double edge = this->SurfaceEdgeLength;
+  if (edge <= 0.0)
+  {
+    vtkNew<vtkPoints> nodes;
+    nodes->SetDataTypeToDouble();
+    for (std::size_t i = 0; i < frontPoint.size(); ++i)
+    {
+      nodes->InsertNextPoint(section.Points[2 * i], section.Points[2 * i + 1], 0.0);
+    }
+    vtkNew<vtkPolyData> cloud;
+    cloud->SetPoints(nodes);
+    vtkNew<vtkStaticPointLocator> locator;
+    locator->SetDataSet(cloud);
+    locator->BuildLocator();
+    std::vector<double> near;
+    for (vtkIdType i = 0; i < cut->GetNumberOfPoints(); ++i)
+    {
+      const double* x = cut->GetPoint(i);
+      const double q[3] = { x[U], x[V], 0.0 };
+      const vtkIdType j = locator->FindClosestPoint(q);
+      if (j >= 0 && lv[j] > 0.0)
+      {
+        near.push_back(lv[j]);
+      }
+    }
+    if (near.empty())
+    {
+      return passThrough("Could not find the mesh size near the feature curve; set SurfaceEdgeLength.");
+    }
+    std::nth_element(near.begin(), near.begin() + near.size() / 2, near.end());
+    edge = near[near.size() / 2];
+  }
+  vtkNew<vtkSplineFilter> resample;
+  resample->SetInputData(cut);
+  resample->SetSubdivideToLength();
+  resample->SetLength(edge);
+  resample->Update();
+  vtkPolyData* curve = resample->GetOutput();
+  std::vector<double> cPoints;
+  std::vector<std::int64_t> cSegments;
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    vtkCellArray* lines = curve->GetLines();
+    for (lines->InitTraversal(); lines->GetNextCell(n, ids);)
+    {
+      const auto first = static_cast<std::int64_t>(cPoints.size() / 2);
+      vtkIdType count = n;
+      const double* a = curve->GetPoint(ids[0]);
+      const double* b = curve->GetPoint(ids[n - 1]);
+      const bool closed = n > 3 && std::hypot(a[U] - b[U], a[V] - b[V]) < 1e-9 * edge;
+      if (closed)
+      {
+        --count; // a loop: the last point is the first
+      }
+      for (vtkIdType k = 0; k < count; ++k)
+      {
+        const double* x = curve->GetPoint(ids[k]);
+        cPoints.push_back(x[U]);
+        cPoints.push_back(x[V]);
+        if (k > 0)
+        {
+          cSegments.insert(cSegments.end(), { first + k - 1, first + k });
+        }
+      }
+      if (closed)
+      {
+        cSegments.insert(cSegments.end(), { first + count - 1, first });
+      }
+    }
+  }
+  if (cSegments.empty())
+  {
+    return passThrough("The feature curve is empty after resampling.");
+  }
+  this->UpdateProgress(0.3);
+
+  // ---- The 2-D cavity and its refill.
+  ar::Cavity2DOptions options;
+  options.RemovalFactor = this->RemovalFactor;
+  options.VisibilityTest = this->VisibilityTest;
+  options.BoundaryMargin = this->BoundaryMargin;
+  options.MinAngle = this->MinTriangleAngle;
+  options.FullDomain = this->Mode == FULL_DOMAIN;
+  ar::Cavity2DRemesh result;
+  std::string error;
+  bool ok = false;
+  try
+  {
+    ok = ar::RemeshLocalCavity2D(section, cPoints.data(), cPoints.size() / 2, cSegments.data(),
+      cSegments.size() / 2, options, result, error);
+  }
+  catch (const std::exception& e)
+  {
+    error = std::string("CGAL failed: ") + e.what();
+  }
+  if (!ok)
+  {
+    return passThrough(error);
+  }
+  this->UpdateProgress(0.7);
+
+  // ---- Output points: the kept input points (input order), then a front
+  // and a back point per new 2-D point.
+  const std::size_t n2 = result.SourcePoint.size();
+  std::vector<vtkIdType> outOfInput(nPoints, -1), pointSource;
+  std::vector<std::array<vtkIdType, 2>> pair(n2); // per 2-D output point: its output ids on Lo, Hi
+  for (std::size_t i = 0; i < n2; ++i)
+  {
+    if (result.SourcePoint[i] >= 0)
+    {
+      const vtkIdType f = frontPoint[result.SourcePoint[i]];
+      outOfInput[f] = 0;
+      outOfInput[layout.Partner[f]] = 0;
+    }
+  }
+  // 2-D cells off the planes (patch faces on the domain boundary) keep their points.
+  vtkNew<vtkIdList> ids;
+  std::vector<vtkIdType> planeCells, otherCells;
+  std::map<std::vector<vtkIdType>, vtkIdType> planeCellOfKey;
+  std::map<std::vector<vtkIdType>, std::pair<vtkIdType, int>> faceOwner; // key -> volume index, plane
+  for (std::size_t k = 0; k < nVolume; ++k)
+  {
+    for (int s = 0; s < 2; ++s)
+    {
+      faceOwner[SortedKey(layout.Faces[k][s])] = { static_cast<vtkIdType>(k), s };
+    }
+  }
+  std::vector<char> isVolume(input->GetNumberOfCells(), 0);
+  for (const vtkIdType c : layout.VolumeCells)
+  {
+    isVolume[c] = 1;
+  }
+  for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+  {
+    if (isVolume[c])
+    {
+      continue;
+    }
+    input->GetCellPoints(c, ids);
+    std::vector<vtkIdType> key(ids->GetPointer(0), ids->GetPointer(0) + ids->GetNumberOfIds());
+    key = SortedKey(key);
+    if (faceOwner.count(key))
+    {
+      planeCells.push_back(c);
+      planeCellOfKey[key] = c;
+    }
+    else
+    {
+      otherCells.push_back(c);
+      for (const vtkIdType p : key)
+      {
+        outOfInput[p] = 0;
+      }
+    }
+  }
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  for (vtkIdType p = 0; p < nPoints; ++p)
+  {
+    if (outOfInput[p] == 0)
+    {
+      outOfInput[p] = points->InsertNextPoint(input->GetPoint(p));
+      pointSource.push_back(p);
+    }
+  }
+  const vtkIdType nKeptPoints = points->GetNumberOfPoints();
+  for (std::size_t i = 0; i < n2; ++i)
+  {
+    if (result.SourcePoint[i] >= 0)
+    {
+      const vtkIdType f = frontPoint[result.SourcePoint[i]];
+      pair[i] = { outOfInput[f], outOfInput[layout.Partner[f]] };
+      continue;
+    }
+    double x[3];
+    x[U] = result.Mesh.Points[2 * i];
+    x[V] = result.Mesh.Points[2 * i + 1];
+    for (int s = 0; s < 2; ++s)
+    {
+      x[axis] = s == 0 ? layout.Lo : layout.Hi;
+      pair[i][s] = points->InsertNextPoint(x);
+      pointSource.push_back(-1);
+    }
+  }
+  const vtkIdType nOut = points->GetNumberOfPoints();
+
+  // ---- Cells: kept volume cells (their node order), new wedges, then the
+  // 2-D cells (off the planes; on the planes kept with their cell, and the
+  // new wedges' triangles where the input had a face).
+  output->Initialize();
+  output->GetFieldData()->ShallowCopy(input->GetFieldData());
+  output->SetPoints(points);
+  output->Allocate(static_cast<vtkIdType>(result.SourceCell.size() + otherCells.size() + planeCells.size()));
+  std::vector<vtkIdType> sourceCell; // input cell of each output cell
+  vtkNew<vtkIntArray> region;
+  region->SetName("Region");
+  vtkNew<vtkDoubleArray> minAngle;
+  minAngle->SetName("MinDihedralAngle");
+  vtkNew<vtkStaticCellLocator> cells;
+  cells->SetDataSet(input);
+  cells->BuildLocator();
+  vtkNew<vtkGenericCell> gcell;
+  std::vector<double> weights(VTK_CELL_SIZE);
+  const double tol2 = 1e-12 * input->GetLength2();
+  std::vector<char> cellKept(input->GetNumberOfCells(), 0);
+  double newMin = 180.0, newSum = 0.0, areaAfter = 0.0;
+  vtkIdType newCount = 0, keptCount = 0;
+  std::vector<vtkEmbeddedRemeshPlanes::Wedge> wedges;
+  auto triangleAngle = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
+    double xa[3], xb[3], xc[3];
+    points->GetPoint(a, xa);
+    points->GetPoint(b, xb);
+    points->GetPoint(c, xc);
+    return TriangleMinAngle(xa, xb, xc);
+  };
+  for (std::size_t c = 0; c < result.SourceCell.size(); ++c)
+  {
+    const std::int64_t* v = &result.Mesh.Connectivity[result.Mesh.Offsets[c]];
+    const std::int64_t n = result.Mesh.Offsets[c + 1] - result.Mesh.Offsets[c];
+    for (std::int64_t j = 0; j < n; ++j)
+    {
+      const double* a = &result.Mesh.Points[2 * v[j]];
+      const double* b = &result.Mesh.Points[2 * v[(j + 1) % n]];
+      areaAfter += 0.5 * (a[0] * b[1] - a[1] * b[0]);
+    }
+    const std::int64_t src = result.SourceCell[c];
+    if (src >= 0)
+    {
+      const vtkIdType in = layout.VolumeCells[src];
+      cellKept[in] = 1;
+      input->GetCellPoints(in, ids);
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      {
+        ids->SetId(k, outOfInput[ids->GetId(k)]);
+      }
+      const int type = input->GetCellType(in);
+      output->InsertNextCell(type, ids);
+      sourceCell.push_back(in);
+      region->InsertNextValue(0);
+      minAngle->InsertNextValue(type == VTK_WEDGE
+          ? std::min(90.0, triangleAngle(ids->GetId(0), ids->GetId(1), ids->GetId(2)))
+          : -1.0);
+      ++keptCount;
+      continue;
+    }
+    // A counter-clockwise triangle (a, b, c) in (U, V): its normal points to
+    // Hi, so the wedge's base on Lo is (a, c, b) (VTK: the base's normal
+    // points away from the top).
+    const vtkIdType lo[3] = { pair[v[0]][0], pair[v[2]][0], pair[v[1]][0] };
+    const vtkIdType hi[3] = { pair[v[0]][1], pair[v[2]][1], pair[v[1]][1] };
+    const vtkIdType wedge[6] = { lo[0], lo[1], lo[2], hi[0], hi[1], hi[2] };
+    output->InsertNextCell(VTK_WEDGE, 6, wedge);
+    double centre[3];
+    centre[U] = (result.Mesh.Points[2 * v[0]] + result.Mesh.Points[2 * v[1]] + result.Mesh.Points[2 * v[2]]) / 3.0;
+    centre[V] = (result.Mesh.Points[2 * v[0] + 1] + result.Mesh.Points[2 * v[1] + 1] + result.Mesh.Points[2 * v[2] + 1]) / 3.0;
+    centre[axis] = mid;
+    double pcoords[3];
+    int subId;
+    vtkIdType in = cells->FindCell(centre, tol2, gcell, subId, pcoords, weights.data());
+    if (in < 0)
+    {
+      double closest[3], dist2;
+      cells->FindClosestPoint(centre, closest, gcell, in, subId, dist2);
+    }
+    sourceCell.push_back(in);
+    region->InsertNextValue(1);
+    const double m = std::min(90.0, triangleAngle(lo[0], lo[1], lo[2]));
+    minAngle->InsertNextValue(m);
+    newMin = std::min(newMin, m);
+    newSum += m;
+    ++newCount;
+    vtkEmbeddedRemeshPlanes::Wedge w;
+    w.Source = in;
+    w.Face[0] = { lo[0], lo[1], lo[2] };   // normal -axis: out of the domain on Lo
+    w.Face[1] = { hi[0], hi[2], hi[1] };   // normal +axis: out of the domain on Hi
+    wedges.push_back(w);
+  }
+  const vtkIdType nVolumeOut = static_cast<vtkIdType>(sourceCell.size());
+  for (const vtkIdType c : otherCells)
+  {
+    input->GetCellPoints(c, ids);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      ids->SetId(k, outOfInput[ids->GetId(k)]);
+    }
+    output->InsertNextCell(input->GetCellType(c), ids);
+    sourceCell.push_back(c);
+    region->InsertNextValue(0);
+    minAngle->InsertNextValue(-1.0);
+  }
+  for (const vtkIdType c : planeCells)
+  {
+    input->GetCellPoints(c, ids);
+    std::vector<vtkIdType> key(ids->GetPointer(0), ids->GetPointer(0) + ids->GetNumberOfIds());
+    if (!cellKept[layout.VolumeCells[faceOwner.at(SortedKey(key)).first]])
+    {
+      continue;
+    }
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      ids->SetId(k, outOfInput[ids->GetId(k)]);
+    }
+    output->InsertNextCell(input->GetCellType(c), ids);
+    sourceCell.push_back(c);
+    region->InsertNextValue(0);
+    minAngle->InsertNextValue(-1.0);
+  }
+  // Per input volume cell: its index among the volume cells.
+  std::vector<vtkIdType> volumeIndex(input->GetNumberOfCells(), -1);
+  for (std::size_t k = 0; k < nVolume; ++k)
+  {
+    volumeIndex[layout.VolumeCells[k]] = static_cast<vtkIdType>(k);
+  }
+  std::size_t patchTriangles = 0;
+  for (const auto& w : wedges)
+  {
+    const vtkIdType k = w.Source >= 0 ? volumeIndex[w.Source] : -1;
+    for (int s = 0; k >= 0 && s < 2; ++s)
+    {
+      auto it = planeCellOfKey.find(SortedKey(layout.Faces[k][s]));
+      if (it == planeCellOfKey.end())
+      {
+        continue;
+      }
+      output->InsertNextCell(VTK_TRIANGLE, 3, w.Face[s].data());
+      sourceCell.push_back(it->second);
+      region->InsertNextValue(1);
+      minAngle->InsertNextValue(-1.0);
+      ++patchTriangles;
+    }
+  }
+
+  // ---- Fields: kept points and cells copy theirs; new points interpolate
+  // in the input cell that contains them, new cells take their source's.
+  if (this->InterpolateFields)
+  {
+    vtkPointData* outPD = output->GetPointData();
+    vtkCellData* outCD = output->GetCellData();
+    outPD->InterpolateAllocate(input->GetPointData(), nOut);
+    outCD->CopyAllocate(input->GetCellData(), static_cast<vtkIdType>(sourceCell.size()));
+    for (vtkIdType i = 0; i < nOut; ++i)
+    {
+      double x[3];
+      points->GetPoint(i, x);
+      InterpolatePointData(input, cells, outPD, i < nKeptPoints ? pointSource[i] : -1, x, i, gcell, weights);
+    }
+    for (std::size_t k = 0; k < sourceCell.size(); ++k)
+    {
+      outCD->CopyData(input->GetCellData(), sourceCell[k], static_cast<vtkIdType>(k));
+    }
+  }
+  output->GetCellData()->AddArray(region);
+  output->GetCellData()->AddArray(minAngle);
+
+  // ---- Field data and the embedded surface (quads: the extruded curve segments).
+  auto field = [&](const char* name, double value) {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  };
+  field("TwoDimensional", 1.0);
+  field("KeptCells", static_cast<double>(keptCount));
+  field("NewCells", static_cast<double>(newCount));
+  field("InputNodes", static_cast<double>(nPoints));
+  field("OutputNodes", static_cast<double>(nOut));
+  field("NewNodes", static_cast<double>(nOut - nKeptPoints));
+  field("RemovedNodes", static_cast<double>(nPoints - nKeptPoints));
+  field("SurfaceQuads", static_cast<double>(result.Curve.size() / 2));
+  field("SurfaceEdgeLength", edge);
+  field("MinTriangleAngleNew", newCount ? result.MinAngleNew : 0.0);
+  field("MinDihedralAngleNew", newCount ? newMin : 0.0);
+  field("MeanDihedralAngleNew", newCount ? newSum / newCount : 0.0);
+  field("RelativeVolumeChange", areaBefore > 0.0 ? (areaAfter - areaBefore) / areaBefore : 0.0);
+  field("PatchTrianglesNew", static_cast<double>(patchTriangles));
+  vtkNew<vtkCellArray> quads;
+  for (std::size_t s = 0; s < result.Curve.size(); s += 2)
+  {
+    const std::int64_t a = result.Curve[s], b = result.Curve[s + 1];
+    const vtkIdType quad[4] = { pair[a][0], pair[b][0], pair[b][1], pair[a][1] };
+    quads->InsertNextCell(4, quad);
+  }
+  embedded->Initialize();
+  embedded->SetPoints(points);
+  embedded->SetPolys(quads);
+
+  if (planes)
+  {
+    planes->Valid = true;
+    planes->Input = input;
+    planes->Output = output;
+    planes->FaceOwner.clear();
+    planes->CellFaceKey.assign(input->GetNumberOfCells(), {});
+    for (std::size_t k = 0; k < nVolume; ++k)
+    {
+      for (int s = 0; s < 2; ++s)
+      {
+        const auto key = SortedKey(layout.Faces[k][s]);
+        planes->FaceOwner[key] = layout.VolumeCells[k];
+        planes->CellFaceKey[layout.VolumeCells[k]][s] = key;
+      }
+    }
+    planes->CellKept = cellKept;
+    for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+    {
+      planes->CellKept[c] = planes->CellKept[c] || !isVolume[c];
+    }
+    planes->Wedges = wedges;
+  }
+  (void)nVolumeOut;
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkPolyData> vtkEmbeddedRemeshRebuildPatch(vtkPolyData* leaf, const vtkEmbeddedRemeshPlanes& planes)
+{
+  if (!planes.Valid || !leaf || leaf->GetNumberOfCells() == 0 || !leaf->GetPoints())
+  {
+    return nullptr;
+  }
+  // The leaf's points as input volume points (by coordinates).
+  std::map<Coord, vtkIdType> inputPoint, leafPoint;
+  for (vtkIdType i = 0; i < planes.Input->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    planes.Input->GetPoint(i, x);
+    inputPoint.emplace(Coord{ x[0], x[1], x[2] }, i);
+  }
+  for (vtkIdType i = 0; i < leaf->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    leaf->GetPoint(i, x);
+    leafPoint.emplace(Coord{ x[0], x[1], x[2] }, i);
+  }
+  std::vector<vtkIdType> keptFaces;
+  std::map<std::vector<vtkIdType>, vtkIdType> removedFace; // key -> leaf cell
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < leaf->GetNumberOfCells(); ++c)
+  {
+    leaf->GetCellPoints(c, ids);
+    std::vector<vtkIdType> key;
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      double x[3];
+      leaf->GetPoint(ids->GetId(k), x);
+      auto it = inputPoint.find(Coord{ x[0], x[1], x[2] });
+      if (it == inputPoint.end())
+      {
+        break;
+      }
+      key.push_back(it->second);
+    }
+    std::sort(key.begin(), key.end());
+    auto owner = key.size() == static_cast<std::size_t>(ids->GetNumberOfIds()) ? planes.FaceOwner.find(key)
+                                                                               : planes.FaceOwner.end();
+    if (owner != planes.FaceOwner.end() && !planes.CellKept[owner->second])
+    {
+      removedFace[key] = c;
+    }
+    else
+    {
+      keptFaces.push_back(c);
+    }
+  }
+  if (removedFace.empty())
+  {
+    return nullptr;
+  }
+  // The new triangles of this leaf and their source faces.
+  std::vector<std::pair<std::array<vtkIdType, 3>, vtkIdType>> added;
+  for (const auto& w : planes.Wedges)
+  {
+    for (int s = 0; w.Source >= 0 && s < 2; ++s)
+    {
+      auto it = removedFace.find(planes.CellFaceKey[w.Source][s]);
+      if (it != removedFace.end())
+      {
+        added.emplace_back(w.Face[s], it->second);
+      }
+    }
+  }
+  // Points: the leaf's points still used (its order), then new ones.
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble(); // the new points exactly as in the volume
+  std::vector<vtkIdType> outOfLeaf(leaf->GetNumberOfPoints(), -1), source;
+  for (const vtkIdType c : keptFaces)
+  {
+    leaf->GetCellPoints(c, ids);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      outOfLeaf[ids->GetId(k)] = 0;
+    }
+  }
+  std::map<vtkIdType, vtkIdType> outOfVolume; // remeshed volume point -> leaf output point
+  for (const auto& a : added)
+  {
+    for (const vtkIdType p : a.first)
+    {
+      double x[3];
+      planes.Output->GetPoint(p, x);
+      auto it = leafPoint.find(Coord{ x[0], x[1], x[2] });
+      if (it != leafPoint.end())
+      {
+        outOfLeaf[it->second] = 0;
+      }
+    }
+  }
+  for (vtkIdType i = 0; i < leaf->GetNumberOfPoints(); ++i)
+  {
+    if (outOfLeaf[i] == 0)
+    {
+      outOfLeaf[i] = points->InsertNextPoint(leaf->GetPoint(i));
+      source.push_back(i);
+    }
+  }
+  for (const auto& a : added)
+  {
+    for (const vtkIdType p : a.first)
+    {
+      double x[3];
+      planes.Output->GetPoint(p, x);
+      auto it = leafPoint.find(Coord{ x[0], x[1], x[2] });
+      if (it == leafPoint.end() && outOfVolume.count(p) == 0)
+      {
+        outOfVolume[p] = points->InsertNextPoint(x);
+        source.push_back(-1);
+      }
+    }
+  }
+  out->SetPoints(points);
+  vtkNew<vtkCellArray> polys;
+  std::vector<vtkIdType> cellSource;
+  for (const vtkIdType c : keptFaces)
+  {
+    leaf->GetCellPoints(c, ids);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      ids->SetId(k, outOfLeaf[ids->GetId(k)]);
+    }
+    polys->InsertNextCell(ids);
+    cellSource.push_back(c);
+  }
+  for (const auto& a : added)
+  {
+    vtkIdType tri[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      double x[3];
+      planes.Output->GetPoint(a.first[k], x);
+      auto it = leafPoint.find(Coord{ x[0], x[1], x[2] });
+      tri[k] = it != leafPoint.end() ? outOfLeaf[it->second] : outOfVolume.at(a.first[k]);
+    }
+    polys->InsertNextCell(3, tri);
+    cellSource.push_back(a.second);
+  }
+  out->SetPolys(polys);
+  // Fields: kept points and faces copy theirs; new points interpolate in the
+  // leaf, new faces take the face they replace.
+  out->GetPointData()->InterpolateAllocate(leaf->GetPointData(), points->GetNumberOfPoints());
+  out->GetCellData()->CopyAllocate(leaf->GetCellData(), static_cast<vtkIdType>(cellSource.size()));
+  vtkNew<vtkStaticCellLocator> locator;
+  locator->SetDataSet(leaf);
+  locator->BuildLocator();
+  vtkNew<vtkGenericCell> cell;
+  std::vector<double> weights(VTK_CELL_SIZE);
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    points->GetPoint(i, x);
+    InterpolatePointData(leaf, locator, out->GetPointData(), source[i], x, i, cell, weights);
+  }
+  for (std::size_t k = 0; k < cellSource.size(); ++k)
+  {
+    out->GetCellData()->CopyData(leaf->GetCellData(), cellSource[k], static_cast<vtkIdType>(k));
+  }
+  out->GetFieldData()->ShallowCopy(leaf->GetFieldData());
+  return out;
+}

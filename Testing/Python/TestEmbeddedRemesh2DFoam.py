@@ -1,0 +1,150 @@
+"""The OpenFOAM wedge adapted by EmbeddedRemesh's 2-D mode goes back to
+OpenFOAM as a 2-D case: the wedge as an OpenFOAM-reader multiblock
+(internalMesh + inlet, outlet, top, obstacle, frontAndBack), remeshed around
+QuadricFit's shock plane, written with the Gmsh writer (SaveData '.msh'),
+converted by gmshToFoam; frontAndBack set to `empty`; checkMesh must say
+"Mesh OK." with two solution directions (a 2-D mesh), our cell counts per
+type (hexahedra and prisms) and our total volume, and polyMesh/boundary must
+hold each patch with the faces we wrote.
+Skipped (exit 77) when OpenFOAM is not installed (AR_OPENFOAM_BASHRC
+overrides where its bashrc is looked for).
+"""
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+BASHRCS = ["/usr/share/openfoam/etc/bashrc"] + sorted(glob.glob("/usr/lib/openfoam/*/etc/bashrc"))
+if os.environ.get("AR_OPENFOAM_BASHRC"):
+    BASHRCS = [os.environ["AR_OPENFOAM_BASHRC"]]
+BASHRC = next((b for b in BASHRCS if os.path.exists(b)), None)
+
+import artest
+from artest import check
+
+if BASHRC is None:
+    artest.say("SKIPPED: OpenFOAM is not installed (none of %s): gmshToFoam cannot be checked" % BASHRCS)
+    sys.exit(77)
+
+import numpy as np
+from paraview.simple import *
+from paraview import servermanager
+from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkMultiBlockDataSet, vtkPolyData, vtkCellArray
+from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
+from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+artest.load_plugin(globals())
+CASE = os.path.join(artest.OUTPUT_DIR, "EmbeddedRemesh2DFoam")
+shutil.rmtree(CASE, ignore_errors=True)
+HEADER = "FoamFile { version 2.0; format ascii; class dictionary; object %s; }\n"
+FILES = {
+    "system/controlDict": HEADER % "controlDict" + "application none;\nstartFrom startTime;\nstartTime 0;\n"
+    "stopAt endTime;\nendTime 1;\ndeltaT 1;\nwriteControl timeStep;\nwriteInterval 1;\n",
+    "system/fvSchemes": HEADER % "fvSchemes" + "ddtSchemes { default none; }\ngradSchemes { default Gauss linear; }\n"
+    "divSchemes { default none; }\nlaplacianSchemes { default none; }\ninterpolationSchemes { default linear; }\n"
+    "snGradSchemes { default corrected; }\n",
+    "system/fvSolution": HEADER % "fvSolution",
+}
+for rel, text in FILES.items():
+    os.makedirs(os.path.dirname(os.path.join(CASE, rel)), exist_ok=True)
+    with open(os.path.join(CASE, rel), "w") as f:
+        f.write(text)
+
+
+def foam(command):
+    r = subprocess.run(["bash", "-c", "source '%s' >/dev/null 2>&1; cd '%s' && %s" % (BASHRC, CASE, command)],
+                       env=artest.child_environment(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                       text=True, timeout=120)
+    with open(os.path.join(CASE, "log." + command.split()[0]), "w") as f:
+        f.write(r.stdout)
+    return r.returncode, r.stdout
+
+
+# ---- The wedge as the OpenFOAM reader gives it, the shock plane, the 2-D remesh.
+reader = XMLUnstructuredGridReader(FileName=[artest.data("wedge15Ma5.vtu")])
+volume = artest.fetch(reader).VTKObject
+g = vtkGeometryFilter()
+g.SetInputData(volume)
+g.Update()
+skin = g.GetOutput()
+SP = vtk_to_numpy(skin.GetPoints().GetData()).astype(np.float64)
+so = vtk_to_numpy(skin.GetPolys().GetOffsetsArray())
+sc = vtk_to_numpy(skin.GetPolys().GetConnectivityArray())
+faces = [sc[so[f]:so[f + 1]] for f in range(len(so) - 1)]
+centre = np.array([SP[f].mean(axis=0) for f in faces])
+b = volume.GetBounds()
+names = np.full(len(faces), "obstacle", dtype=object)
+names[np.abs(centre[:, 1] - b[3]) < 1e-7] = "top"
+names[np.abs(centre[:, 0] - b[0]) < 1e-7] = "inlet"
+names[np.abs(centre[:, 0] - b[1]) < 1e-7] = "outlet"
+names[(np.abs(centre[:, 2] - b[4]) < 1e-9) | (np.abs(centre[:, 2] - b[5]) < 1e-9)] = "frontAndBack"
+patches = ["inlet", "outlet", "top", "obstacle", "frontAndBack"]
+mb = vtkMultiBlockDataSet()
+mb.SetNumberOfBlocks(2)
+mb.SetBlock(0, volume)
+mb.GetMetaData(0).Set(vtkCompositeDataSet.NAME(), "internalMesh")
+boundary = vtkMultiBlockDataSet()
+boundary.SetNumberOfBlocks(len(patches))
+for i, name in enumerate(patches):
+    pd = vtkPolyData()
+    pd.SetPoints(skin.GetPoints())
+    cells = vtkCellArray()
+    for f in np.where(names == name)[0]:
+        cells.InsertNextCell(len(faces[f]), [int(v) for v in faces[f]])
+    pd.SetPolys(cells)
+    boundary.SetBlock(i, pd)
+    boundary.GetMetaData(i).Set(vtkCompositeDataSet.NAME(), name)
+mb.SetBlock(1, boundary)
+mb.GetMetaData(1).Set(vtkCompositeDataSet.NAME(), "boundary")
+source = PVTrivialProducer()
+source.GetClientSideObject().SetOutput(mb)
+weight = WeightFunction(Input=reader, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
+clusters = FeatureCluster(Input=weight, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
+fit = QuadricFit(Input=OutputPort(clusters, 1), Domain=reader, Template="Plane", ClusterId=0)
+adapted = EmbeddedRemesh(Input=source, Surfaces=[fit])
+adapted.UpdatePipeline()
+out = servermanager.Fetch(adapted)
+mesh = out.GetBlock(0)
+types = vtk_to_numpy(mesh.GetCellTypesArray())
+n_hex, n_prism = int(np.sum(types == 12)), int(np.sum(types == 13))
+check(mesh.GetCellData().GetArray("Region") is not None and n_prism > 0,
+      "the wedge remeshed in 2-D: %d hexahedra, %d prisms" % (n_hex, n_prism))
+written = {name: out.GetBlock(1).GetBlock(i).GetNumberOfCells() for i, name in enumerate(patches)}
+
+# ---- .msh -> gmshToFoam -> frontAndBack empty -> checkMesh.
+msh = os.path.join(CASE, "mesh.msh")
+SaveData(msh, proxy=adapted)
+check(os.path.exists(msh), "mesh.msh written")
+rc, log = foam("gmshToFoam mesh.msh")
+check(rc == 0, "gmshToFoam exits 0")
+if rc != 0:
+    artest.say(log[-2000:])
+    artest.finish()
+path = os.path.join(CASE, "constant", "polyMesh", "boundary")
+with open(path) as f:
+    text = f.read()
+got = {m.group(1): int(m.group(2)) for m in re.finditer(r"(\w+)\s*\{[^{}]*?nFaces\s+(\d+);[^{}]*\}", text)}
+check(got == written, "polyMesh/boundary patches %s = the written patches %s" % (got, written))
+text, n = re.subn(r"(frontAndBack\s*\{[^{}]*?type\s+)\w+;", r"\1empty;", text)
+with open(path, "w") as f:
+    f.write(text)
+check(n == 1, "frontAndBack set to empty")
+rc, log = foam("checkMesh")
+check(rc == 0 and "Mesh OK." in log and "Failed" not in log, "checkMesh exits 0 and says 'Mesh OK.' (no failed check)")
+if "Mesh OK." not in log:
+    artest.say(log[log.find("Checking"):][-3000:])
+check("Mesh has 2 solution (non-empty) directions" in log, "checkMesh: a 2-D mesh (two solution directions)")
+found = {k: int(v) for k, v in re.findall(r"^\s+(hexahedra|prisms|tetrahedra|pyramids|polyhedra):\s+(\d+)", log, re.M)}
+check(found.get("hexahedra") == n_hex and found.get("prisms") == n_prism and found.get("tetrahedra", 0) == 0,
+      "checkMesh cell types %s = ours (%d hexahedra, %d prisms)" % (found, n_hex, n_prism))
+size = vtkCellSizeFilter()
+size.SetInputData(mesh)
+size.Update()
+ours = float(vtk_to_numpy(size.GetOutput().GetCellData().GetArray("Volume")).sum())
+vol = re.search(r"Total volume = (\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)", log)
+check(vol and abs(float(vol.group(1)) - ours) <= 1e-5 * ours,
+      "checkMesh total volume %s = ours %.7g" % (vol.group(1) if vol else None, ours))
+artest.finish()

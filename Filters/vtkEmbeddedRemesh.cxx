@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkEmbeddedRemesh.h"
 #include "vtkEmbeddedRemeshPlanes.h"
+#include "vtkEmbeddedRemeshQuality.h"
 
 #include "ARCavity.h"
 #include "ARCellQuality.h"
@@ -83,23 +84,10 @@ void AddSurfaceTriangles(const std::vector<vtkDataSet*>& surfaces, vtkAppendPoly
     append->AddInputData(bare);
   }
 }
+}
 
-/// Quality sums over this process's output cells, for the field data.
-struct QualitySums
-{
-  double NewCells = 0.0;
-  double NewMinDihedral = 180.0;
-  double NewDihedralSum = 0.0;
-  double NewMaxAspectRatio = 0.0;
-  double LayerMaxAspectRatio = 0.0; ///< kept non-tetrahedral 3-D cells (thin by design)
-  double NonPositiveJacobian = 0.0; ///< 3-D cells with a corner Jacobian <= 0
-};
-
-/// Cell arrays MinDihedralAngle, MaxDihedralAngle (degrees) and AspectRatio
-/// (longest / shortest edge) for every tetrahedron, pyramid, wedge,
-/// hexahedron and voxel of `output` (ar::ComputeCellQuality); -1 for 2-D
-/// cells and polyhedra. `region`: 0 kept, 1 new, per cell.
-QualitySums AddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
+//------------------------------------------------------------------------------
+vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
 {
   const vtkIdType n = output->GetNumberOfCells();
   vtkNew<vtkDoubleArray> minAngle, maxAngle, aspect;
@@ -115,9 +103,9 @@ QualitySums AddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
   // not depend on timing.
   const unsigned nThreads = static_cast<unsigned>(std::max<vtkIdType>(1,
     std::min<vtkIdType>(std::max(1u, std::thread::hardware_concurrency()), n / 20000 + 1)));
-  std::vector<QualitySums> partial(nThreads);
+  std::vector<vtkEmbeddedRemeshQuality> partial(nThreads);
   auto work = [&](unsigned w) {
-    QualitySums& sums = partial[w];
+    vtkEmbeddedRemeshQuality& sums = partial[w];
     const vtkIdType first = n * w / nThreads, last = n * (w + 1) / nThreads;
     vtkNew<vtkIdList> scratch;
     double x[8 * 3];
@@ -182,8 +170,8 @@ QualitySums AddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
   {
     t.join();
   }
-  QualitySums sums;
-  for (const QualitySums& s : partial)
+  vtkEmbeddedRemeshQuality sums;
+  for (const vtkEmbeddedRemeshQuality& s : partial)
   {
     sums.NewCells += s.NewCells;
     sums.NewMinDihedral = std::min(sums.NewMinDihedral, s.NewMinDihedral);
@@ -198,8 +186,7 @@ QualitySums AddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
   return sums;
 }
 
-/// The quality part of the field data.
-void AddQualityFields(vtkUnstructuredGrid* output, const QualitySums& sums)
+void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmbeddedRemeshQuality& sums)
 {
   auto field = [&](const char* name, double value) {
     output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
@@ -210,7 +197,6 @@ void AddQualityFields(vtkUnstructuredGrid* output, const QualitySums& sums)
   field("MaxAspectRatioNew", sums.NewMaxAspectRatio);
   field("MaxAspectRatioLayerCells", sums.LayerMaxAspectRatio);
   field("NonPositiveJacobianCells", sums.NonPositiveJacobian);
-}
 }
 
 //------------------------------------------------------------------------------
@@ -788,7 +774,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   }
   const double secondsInterpolation = lap();
   output->GetCellData()->AddArray(region);
-  const QualitySums quality = AddQualityArrays(output, region);
+  const vtkEmbeddedRemeshQuality quality = vtkEmbeddedRemeshAddQualityArrays(output, region);
   const double secondsQuality = lap();
 
   // ---- Field data and the embedded surface.
@@ -812,7 +798,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("SurfaceTriangles", static_cast<double>(result.Surface.size() / 3));
   field("SurfaceTrianglesAtLockedCells", static_cast<double>(result.SurfaceTrianglesAtLockedCells));
   field("SurfaceEdgeLength", edge);
-  AddQualityFields(output, quality);
+  vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("SecondsInput", secondsInput);
   field("SecondsSurfaceMeshing", secondsSurface);
   field("SecondsSetup", result.Seconds.Setup);
@@ -1507,7 +1493,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     outCD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   }
   output->GetCellData()->AddArray(region);
-  QualitySums quality = AddQualityArrays(output, region);
+  vtkEmbeddedRemeshQuality quality = vtkEmbeddedRemeshAddQualityArrays(output, region);
 
   // ---- Field data, equal on every rank and to the serial run's.
   double surfaceTriangles = static_cast<double>(result.Surface.size() / 3);
@@ -1534,7 +1520,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   field("RemovedNodes", removedNodes);
   field("SurfaceTriangles", surfaceTriangles);
   field("SurfaceEdgeLength", edge);
-  AddQualityFields(output, quality);
+  vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("RelativeVolumeChange", volumes[0] > 0.0 ? (volumes[1] - volumes[0]) / volumes[0] : 0.0);
   vtkNew<vtkCellArray> faces;
   for (std::size_t f = 0; f < result.Surface.size(); f += 3)

@@ -3,6 +3,7 @@
 // remeshed on its cross-section and extruded back into hexahedra and wedges.
 #include "vtkEmbeddedRemesh.h"
 #include "vtkEmbeddedRemeshPlanes.h"
+#include "vtkEmbeddedRemeshQuality.h"
 
 #include "ARCavity2D.h"
 #include "vtkARMeshKernels.h"
@@ -552,8 +553,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   std::vector<vtkIdType> sourceCell; // input cell of each output cell
   vtkNew<vtkIntArray> region;
   region->SetName("Region");
-  vtkNew<vtkDoubleArray> minAngle;
-  minAngle->SetName("MinDihedralAngle");
   vtkNew<vtkStaticCellLocator> cells;
   cells->SetDataSet(input);
   cells->BuildLocator();
@@ -561,16 +560,10 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   std::vector<double> weights(VTK_CELL_SIZE);
   const double tol2 = 1e-12 * input->GetLength2();
   std::vector<char> cellKept(input->GetNumberOfCells(), 0);
-  double newMin = 180.0, newSum = 0.0, areaAfter = 0.0;
+  double areaAfter = 0.0;
   vtkIdType newCount = 0, keptCount = 0;
   std::vector<vtkEmbeddedRemeshPlanes::Wedge> wedges;
-  auto triangleAngle = [&](vtkIdType a, vtkIdType b, vtkIdType c) {
-    double xa[3], xb[3], xc[3];
-    points->GetPoint(a, xa);
-    points->GetPoint(b, xb);
-    points->GetPoint(c, xc);
-    return TriangleMinAngle(xa, xb, xc);
-  };
+
   for (std::size_t c = 0; c < result.SourceCell.size(); ++c)
   {
     const std::int64_t* v = &result.Mesh.Connectivity[result.Mesh.Offsets[c]];
@@ -595,9 +588,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       output->InsertNextCell(type, ids);
       sourceCell.push_back(in);
       region->InsertNextValue(0);
-      minAngle->InsertNextValue(type == VTK_WEDGE
-          ? std::min(90.0, triangleAngle(ids->GetId(0), ids->GetId(1), ids->GetId(2)))
-          : -1.0);
       ++keptCount;
       continue;
     }
@@ -622,10 +612,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     }
     sourceCell.push_back(in);
     region->InsertNextValue(1);
-    const double m = std::min(90.0, triangleAngle(lo[0], lo[1], lo[2]));
-    minAngle->InsertNextValue(m);
-    newMin = std::min(newMin, m);
-    newSum += m;
     ++newCount;
     vtkEmbeddedRemeshPlanes::Wedge w;
     w.Source = in;
@@ -644,7 +630,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     output->InsertNextCell(input->GetCellType(c), ids);
     sourceCell.push_back(c);
     region->InsertNextValue(0);
-    minAngle->InsertNextValue(-1.0);
   }
   for (const vtkIdType c : planeCells)
   {
@@ -661,7 +646,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     output->InsertNextCell(input->GetCellType(c), ids);
     sourceCell.push_back(c);
     region->InsertNextValue(0);
-    minAngle->InsertNextValue(-1.0);
   }
   // Per input volume cell: its index among the volume cells.
   std::vector<vtkIdType> volumeIndex(input->GetNumberOfCells(), -1);
@@ -683,7 +667,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       output->InsertNextCell(VTK_TRIANGLE, 3, w.Face[s].data());
       sourceCell.push_back(it->second);
       region->InsertNextValue(1);
-      minAngle->InsertNextValue(-1.0);
       ++patchTriangles;
     }
   }
@@ -708,7 +691,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     }
   }
   output->GetCellData()->AddArray(region);
-  output->GetCellData()->AddArray(minAngle);
+  const vtkEmbeddedRemeshQuality quality = vtkEmbeddedRemeshAddQualityArrays(output, region);
 
   // ---- Field data and the embedded surface (quads: the extruded curve segments).
   auto field = [&](const char* name, double value) {
@@ -724,8 +707,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   field("SurfaceQuads", static_cast<double>(result.Curve.size() / 2));
   field("SurfaceEdgeLength", edge);
   field("MinTriangleAngleNew", newCount ? result.MinAngleNew : 0.0);
-  field("MinDihedralAngleNew", newCount ? newMin : 0.0);
-  field("MeanDihedralAngleNew", newCount ? newSum / newCount : 0.0);
+  vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("RelativeVolumeChange", areaBefore > 0.0 ? (areaAfter - areaBefore) / areaBefore : 0.0);
   field("PatchTrianglesNew", static_cast<double>(patchTriangles));
   vtkNew<vtkCellArray> quads;

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file vtkEmbeddedRemeshQuality.h
+ * @brief Internal to vtkEmbeddedRemesh: the quality arrays and field data of
+ *        its output, the same in the 3-D, 2-D and distributed paths.
+ */
+#ifndef vtkEmbeddedRemeshQuality_h
+#define vtkEmbeddedRemeshQuality_h
+
+class vtkIntArray;
+class vtkUnstructuredGrid;
+
+/// Quality sums over this process's output cells, for the field data.
+struct vtkEmbeddedRemeshQuality
+{
+  double NewCells = 0.0;
+  double NewMinDihedral = 180.0;
+  double NewDihedralSum = 0.0;
+  double NewMaxAspectRatio = 0.0;
+  double LayerMaxAspectRatio = 0.0; ///< kept non-tetrahedral 3-D cells (thin by design)
+  double NonPositiveJacobian = 0.0; ///< 3-D cells with a corner Jacobian <= 0
+};
+
+/// Cell arrays MinDihedralAngle, MaxDihedralAngle (degrees) and AspectRatio
+/// (longest / shortest edge) for every tetrahedron, pyramid, wedge,
+/// hexahedron and voxel of `output` (ar::ComputeCellQuality); -1 for 2-D
+/// cells and polyhedra. `region`: 0 kept, 1 new, per cell.
+vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region);
+
+/// The quality part of the field data: MinDihedralAngleNew,
+/// MeanDihedralAngleNew, MaxAspectRatioNew, MaxAspectRatioLayerCells,
+/// NonPositiveJacobianCells.
+void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmbeddedRemeshQuality& sums);
+
+#endif

@@ -984,6 +984,8 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     map(out.Pyramids, stack.Pyramids);
     out.PyramidLayer = stack.PyramidLayer;
     out.PyramidSide = stack.PyramidSide;
+    out.FirstStackPoint = static_cast<std::size_t>(stackOffset);
+    out.NumberOfStackPoints = stack.Points.size() / 3;
     out.LimitedColumns = stack.LimitedColumns;
     out.LayerStackHeight = stackHeight;
     // S: the faces between the two sides' innermost prisms (with one side,

@@ -103,6 +103,8 @@ struct CavityRemesh
   /// layer of a closure tetrahedron of the stack.
   std::vector<int> TetrahedronLayer;
   std::vector<int> TetrahedronSide;      ///< per output tetrahedron: 0, or +1/-1 for closure ones
+  std::size_t FirstStackPoint = 0;       ///< output ids FirstStackPoint .. + NumberOfStackPoints - 1 are the stack's
+  std::size_t NumberOfStackPoints = 0;   ///< (S's points, layer points, closure apices, in ARPrismLayers' order)
   std::size_t LimitedColumns = 0;        ///< stack columns lowered by obstacles/proximity/validity
   double LayerStackHeight = 0.0;         ///< the requested height per side, z_N
 };

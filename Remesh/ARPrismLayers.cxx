@@ -452,6 +452,10 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
   Tree surfaceTree(surfaceTris.begin(), surfaceTris.end());
   if (!obstacleTris.empty())
   {
+    obstacleTree.accelerate_distance_queries();
+  }
+  if (!obstacleTris.empty())
+  {
     for (std::size_t t = 0; t < nT; ++t)
     {
       if (obstacleTree.do_intersect(surfaceTris[t]))
@@ -546,7 +550,13 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     lEdge[e] = (X[b] - X[a]).norm();
     nEdge[e] = (normal[a] + normal[b]).normalized();
     tEdge[e] = (X[b] - X[a]).cross(nEdge[e]).normalized();
-    dEdge[e] = std::min(0.5 * lEdge[e], gap * freeDistance(0.5 * (X[a] + X[b]), tEdge[e], a, b));
+    const Vec m = 0.5 * (X[a] + X[b]);
+    dEdge[e] = std::min(0.5 * lEdge[e], gap * freeDistance(m, tEdge[e], a, b));
+    if (!obstacleTris.empty())
+    {
+      // Not nearer to an obstacle than GapFraction of its distance in any direction.
+      dEdge[e] = std::min(dEdge[e], gap * std::sqrt(CGAL::to_double(obstacleTree.squared_distance(P(m)))));
+    }
   }
 
   // ---- Point ids.

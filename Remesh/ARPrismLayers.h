@@ -56,10 +56,12 @@
  * into groups about one border edge high (one group when the whole stack is
  * lower than that), and each group's pyramids share one apex P_e,g beside
  * the middle of the edge at the group's mid-height, d_e outward in the plane
- * of the layer there (d_e is half the edge where nothing is near; limited by
- * obstacles and, where the border turns inward, so that neighbouring fans
- * keep 20 degrees apart). Pyramids of a group meet face to face; between two
- * groups a seam tetrahedron (a_K, b_K, P_e,g+1, P_e,g) closes the notch.
+ * of the layer there (d_e is half the edge where nothing is near, at most
+ * GapFraction of the distance to the nearest obstacle and of the free
+ * distance outward, and lowered where the border turns inward so that
+ * neighbouring fans keep 20 degrees apart). Pyramids of a group meet face to
+ * face; between two groups a seam tetrahedron (a_K, b_K, P_e,g+1, P_e,g)
+ * closes the notch.
  * Rejected alternatives: one apex per quad leaves a notch as thin as the
  * layers between the pyramids of consecutive layers; splitting the border
  * prisms into tetrahedra leaves the void facing triangles as thin as the
@@ -77,8 +79,10 @@
  * band of triangles between consecutive rows of apices. The planar cases of
  * TestPrismLayers keep TetGen's tetrahedra at >= 10 degrees with stacks up
  * to three border edges high. Where the border edges are much shorter than
- * the stack (e.g. a tiny border loop around a cone's tip) the closure is
- * cramped and TetGen's tetrahedra there can be worse.
+ * the stack (e.g. a tiny border loop around a cone's tip), or in the notches
+ * of a jagged border (S trimmed at a domain boundary), the closure is
+ * cramped and TetGen can be left with a sliver between closure points there
+ * (as it can next to S's jagged border without layers).
  *
  * Cell conventions (all cells have positive volume in VTK's sense):
  *  - VTK_WEDGE (p0..p5): bottom triangle p0 p1 p2, top triangle p3 p4 p5,

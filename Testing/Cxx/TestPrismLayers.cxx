@@ -674,6 +674,36 @@ TEST(PrismLayers, CloseParallelSurfacesShrinkTheirFacingLayers)
   EXPECT_GT(r.LimitedColumns, 0u);
 }
 
+TEST(PrismLayers, SurfaceTrimmedAtTheDomainBoundaryGetsAClosedStack)
+{
+  // A wavy surface across the whole cube, its grid turned by 0.5 rad: the
+  // trim leaves a jagged border (notches and spikes) near the boundary.
+  const double c = std::cos(0.5), sn = std::sin(0.5);
+  const Surface s = Grid(20, 20, -0.2, 1.2, -0.2, 1.2, [c, sn](double u, double v) {
+    const double x = 0.5 + c * (u - 0.5) - sn * (v - 0.5), y = 0.5 + sn * (u - 0.5) + c * (v - 0.5);
+    return std::array<double, 3>{ x, y, 0.45 + 0.1 * x + 0.05 * std::sin(6 * y) };
+  });
+  const ar::TetMesh cube = KuhnCube(12);
+  ar::CavityOptions o;
+  o.Layers.NumberOfLayers = 4;
+  o.Layers.TotalThickness = 0.03;
+  o.Layers.GrowthRatio = 1.2;
+  ar::CavityRemesh r;
+  std::string error;
+  ASSERT_TRUE(ar::RemeshLocalCavity(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, r, error)) << error;
+  ASSERT_LT(r.SurfaceTrianglesUsed, s.Triangles.size() / 3);
+  ExpectValidCavity(cube, r, r.SurfaceTrianglesUsed, 4, true, "trimmed surface", false);
+  // The stack stays inside the domain, clear of its boundary.
+  double nearest = 1.0;
+  for (std::size_t i = r.FirstStackPoint; i < r.FirstStackPoint + r.NumberOfStackPoints; ++i)
+  {
+    const double* x = &r.Mesh.Points[3 * i];
+    nearest = std::min({ nearest, x[0], 1 - x[0], x[1], 1 - x[1], x[2], 1 - x[2] });
+  }
+  EXPECT_GT(nearest, 0.02) << "no stack point near the domain boundary";
+}
+
 TEST(PrismLayers, RefusesBadInput)
 {
   const Surface s = TiltedPatch();

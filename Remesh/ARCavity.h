@@ -83,7 +83,7 @@ struct CavityRemesh
   TetMesh Mesh;                          ///< kept points (input order) then new ones; kept tets then new ones
   std::vector<std::int64_t> SourcePoint; ///< per output point: input point id, or -1 (new)
   std::vector<std::int64_t> SourceCell;  ///< per output tet: input tet id (kept), or -1 (new)
-  std::vector<std::int64_t> Surface;     ///< the embedded S triangles, output point ids
+  std::vector<std::int64_t> Surface;     ///< the embedded S triangles, output point ids (with layers: the faces between the two sides' innermost prisms)
   std::size_t RemovedNodes = 0;          ///< interior nodes of V removed
   std::size_t RemovedCells = 0;          ///< tetrahedra of V in the cavity
   std::size_t SurfaceTrianglesUsed = 0;  ///< S triangles left after the trim

@@ -529,6 +529,14 @@ TEST(PrismLayers, CavityWithLayersOnAPlaneIsAValidHybridMesh)
     if (dmin < 0.99 * (3.0 * lv + r.LayerStackHeight))
       EXPECT_EQ(kept.count(static_cast<std::int64_t>(j)), 0u) << "node " << j << " at " << dmin;
   }
+  // FullDomain with layers: everything remeshed, still a valid hybrid mesh.
+  ar::CavityOptions full = o;
+  full.FullDomain = true;
+  ar::CavityRemesh all;
+  ASSERT_TRUE(ar::RemeshLocalCavity(KuhnCube(8), s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, full, all, error)) << error;
+  ExpectValidCavity(KuhnCube(8), all, s.Triangles.size() / 3, 3, true, "plane, FullDomain");
+  EXPECT_EQ(std::count(all.SourceCell.begin(), all.SourceCell.end(), -1), static_cast<long>(all.SourceCell.size()));
   // The tetrahedra-only path is untouched by the new option's default.
   ar::CavityRemesh plain;
   ASSERT_TRUE(ar::RemeshLocalCavity(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),

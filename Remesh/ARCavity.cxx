@@ -82,6 +82,89 @@ bool Inside(const Tree& tree, const Point& p)
 
 namespace
 {
+/// Drops triangles of S (keep[t] = 0) until the kept ones form a single fan
+/// around each point: at a pinched point (two fans meeting at a point, as a
+/// trim can leave) the largest fan stays. Prism columns need one normal per point.
+void ClearPinches(const std::int64_t* tris, std::size_t nPoints, std::size_t nTris, std::vector<char>& keep)
+{
+  for (int pass = 0; pass < 100; ++pass)
+  {
+    std::vector<std::int64_t> start(nPoints + 1, 0);
+    for (std::size_t t = 0; t < nTris; ++t)
+    {
+      for (int k = 0; k < 3 && keep[t]; ++k)
+      {
+        ++start[tris[3 * t + k] + 1];
+      }
+    }
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    std::vector<std::int64_t> list(static_cast<std::size_t>(start.back()));
+    std::vector<std::int64_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t < nTris; ++t)
+    {
+      for (int k = 0; k < 3 && keep[t]; ++k)
+      {
+        list[fill[tris[3 * t + k]]++] = static_cast<std::int64_t>(t);
+      }
+    }
+    bool changed = false;
+    for (std::size_t v = 0; v < nPoints; ++v)
+    {
+      // (triangles dropped at an earlier point of this pass left out)
+      const std::int64_t first = start[v];
+      const std::int64_t deg = std::stable_partition(list.begin() + first, list.begin() + start[v + 1],
+        [&](std::int64_t t) { return keep[t] != 0; }) - (list.begin() + first);
+      if (deg < 2)
+      {
+        continue;
+      }
+      UnionFind fans(static_cast<std::size_t>(deg));
+      for (std::int64_t i = 0; i < deg; ++i)
+      {
+        for (std::int64_t j = i + 1; j < deg; ++j)
+        {
+          const std::int64_t* a = tris + 3 * list[first + i];
+          const std::int64_t* b = tris + 3 * list[first + j];
+          bool shareEdge = false;
+          for (int p = 0; p < 3; ++p)
+          {
+            for (int q = 0; q < 3; ++q)
+            {
+              shareEdge = shareEdge || (a[p] == b[q] && a[p] != static_cast<std::int64_t>(v));
+            }
+          }
+          if (shareEdge)
+          {
+            fans.Union(i, j);
+          }
+        }
+      }
+      std::vector<std::int64_t> count(static_cast<std::size_t>(deg), 0);
+      for (std::int64_t i = 0; i < deg; ++i)
+      {
+        ++count[fans.Find(i)];
+      }
+      const std::int64_t best = std::max_element(count.begin(), count.end()) - count.begin();
+      if (count[best] == deg)
+      {
+        continue;
+      }
+      for (std::int64_t i = 0; i < deg; ++i)
+      {
+        if (fans.Find(i) != best)
+        {
+          keep[list[first + i]] = 0;
+          changed = true;
+        }
+      }
+    }
+    if (!changed)
+    {
+      return;
+    }
+  }
+}
+
 /// RemeshLocalCavity; with `removedOnly`, stops after the removal test and
 /// returns its per-node flags there.
 bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
@@ -150,6 +233,21 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       error = msg.str();
       return false;
     }
+  }
+
+  // ---- Prism layer options (checked before any work).
+  const bool layers = options.Layers.NumberOfLayers != 0;
+  double stackHeight = 0.0; // z_N: added to the removal radius
+  if (layers)
+  {
+    std::vector<double> z;
+    std::string why;
+    if (!PrismLayerDistances(options.Layers, z, why))
+    {
+      error = "prism layers: " + why;
+      return false;
+    }
+    stackHeight = z.back();
   }
 
   // ---- Longest edge at each node of V and of S.
@@ -444,6 +542,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   std::vector<std::int64_t> sIndex(nSurfacePoints, -1);
   std::vector<double> sPoints, sSize;
   std::vector<std::int64_t> sTris;
+  std::vector<char> keepTriangle(nSurfaceTriangles, 0);
   for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
   {
     const std::int64_t* f = surfaceTriangles + 3 * t;
@@ -454,7 +553,16 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       ++out.SurfaceTrianglesAtLockedCells;
       continue;
     }
-    if (!usable[f[0]] || !usable[f[1]] || !usable[f[2]])
+    keepTriangle[t] = usable[f[0]] && usable[f[1]] && usable[f[2]];
+  }
+  if (layers)
+  {
+    ClearPinches(surfaceTriangles, nSurfacePoints, nSurfaceTriangles, keepTriangle);
+  }
+  for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
+  {
+    const std::int64_t* f = surfaceTriangles + 3 * t;
+    if (!keepTriangle[t])
     {
       continue;
     }
@@ -546,12 +654,13 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     const double* xj = &V.Points[3 * j];
     const Point pj = P(xj);
     found.clear();
-    kd.search(std::back_inserter(found), Sphere(IndexedPoint(pj, 0), rf * std::max(lsMax, lv[j]), 0.0));
+    kd.search(std::back_inserter(found),
+      Sphere(IndexedPoint(pj, 0), rf * std::max(lsMax, lv[j]) + stackHeight, 0.0));
     for (const IndexedPoint& q : found)
     {
       const std::size_t i = boost::get<1>(q);
       const double* xi = &sPoints[3 * i];
-      if (Distance(xi, xj) >= rf * std::max(sSize[i], lv[j]))
+      if (Distance(xi, xj) >= rf * std::max(sSize[i], lv[j]) + stackHeight)
       {
         continue;
       }
@@ -608,6 +717,9 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   std::vector<double> nodeSize;
   std::int64_t nBoundaryNodes = 0;
   TetGenResult refill;
+  PrismStack stack;                      // the layer stack (options.Layers on)
+  std::vector<std::int64_t> stackOuter;  // its outer nodes (stack ids), in the PLC after the cavity's
+  std::vector<double> stackOuterSize;
   for (int attempt = 0;; ++attempt)
   {
   {
@@ -702,14 +814,96 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       plc.TriangleMarkers[t] = static_cast<int>(tris[t][3]);
     }
   }
-  // S: internal facets, marker 2.
-  plc.Points.insert(plc.Points.end(), sPoints.begin(), sPoints.end());
-  nodeSize.insert(nodeSize.end(), sSize.begin(), sSize.end());
-  for (std::int64_t id : sTris)
+  // ---- S must lie inside the cavity: no S triangle may cross its boundary.
+  const std::size_t nShell = plc.TriangleMarkers.size();
   {
-    plc.Triangles.push_back(id + nBoundaryNodes);
+    std::vector<Triangle> shell;
+    for (std::size_t t = 0; t < nShell; ++t)
+    {
+      const std::int64_t* f = &plc.Triangles[3 * t];
+      shell.emplace_back(P(&plc.Points[3 * f[0]]), P(&plc.Points[3 * f[1]]), P(&plc.Points[3 * f[2]]));
+    }
+    Tree shellTree(shell.begin(), shell.end());
+    for (std::size_t t = 0; t < sTris.size() / 3; ++t)
+    {
+      const Triangle tri(P(&sPoints[3 * sTris[3 * t]]), P(&sPoints[3 * sTris[3 * t + 1]]),
+        P(&sPoints[3 * sTris[3 * t + 2]]));
+      if (shellTree.do_intersect(tri))
+      {
+        error = "the feature surface crosses the boundary of the cavity (the kept mesh is too "
+                "close to it); raise RemovalFactor.";
+        return false;
+      }
+    }
   }
-  plc.TriangleMarkers.insert(plc.TriangleMarkers.end(), sTris.size() / 3, 2);
+  if (!layers)
+  {
+    // S: internal facets, marker 2.
+    plc.Points.insert(plc.Points.end(), sPoints.begin(), sPoints.end());
+    nodeSize.insert(nodeSize.end(), sSize.begin(), sSize.end());
+    for (std::int64_t id : sTris)
+    {
+      plc.Triangles.push_back(id + nBoundaryNodes);
+    }
+    plc.TriangleMarkers.insert(plc.TriangleMarkers.end(), sTris.size() / 3, 2);
+  }
+  else
+  {
+    if (attempt == 0)
+    {
+      // The layer stack, built against the cavity's boundary (the cavity
+      // only grows in later attempts, so it stays clear of it).
+      std::vector<double> obstacles(9 * nShell);
+      for (std::size_t t = 0; t < nShell; ++t)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          const double* x = &plc.Points[3 * plc.Triangles[3 * t + k]];
+          std::copy(x, x + 3, &obstacles[9 * t + 3 * k]);
+        }
+      }
+      std::string why;
+      if (!BuildPrismLayers(sPoints.data(), sSize.size(), sTris.data(), sTris.size() / 3,
+            obstacles.data(), nShell, options.Layers, stack, why))
+      {
+        error = "prism layers: " + why;
+        return false;
+      }
+      // Its outer nodes in id order, with S's edge length at the point they stand on.
+      const std::size_t nStack = stack.Points.size() / 3;
+      std::vector<double> size(nStack, 0.0);
+      std::vector<char> onOuter(nStack, 0);
+      for (std::size_t i = 0; i < nStack; ++i)
+      {
+        size[i] = sSize[stack.PointSource[i]];
+      }
+      for (std::int64_t id : stack.OuterTriangles)
+      {
+        onOuter[id] = 1;
+      }
+      for (std::size_t i = 0; i < nStack; ++i)
+      {
+        if (onOuter[i])
+        {
+          stackOuter.push_back(static_cast<std::int64_t>(i));
+          stackOuterSize.push_back(size[i]);
+        }
+      }
+    }
+    // Its outer surface: facets with marker 4, its nodes after the cavity's.
+    std::vector<std::int64_t> stackPlc(stack.Points.size() / 3, -1);
+    for (std::size_t j = 0; j < stackOuter.size(); ++j)
+    {
+      stackPlc[stackOuter[j]] = nBoundaryNodes + static_cast<std::int64_t>(j);
+      plc.Points.insert(plc.Points.end(), &stack.Points[3 * stackOuter[j]], &stack.Points[3 * stackOuter[j]] + 3);
+      nodeSize.push_back(stackOuterSize[j]);
+    }
+    for (std::int64_t id : stack.OuterTriangles)
+    {
+      plc.Triangles.push_back(stackPlc[id]);
+    }
+    plc.TriangleMarkers.insert(plc.TriangleMarkers.end(), stack.OuterTriangles.size() / 3, 4);
+  }
   // One hole point per kept region next to the cavity.
   std::vector<char> holeDone(nT, 0);
   for (std::size_t t = 0; t < nT; ++t)
@@ -734,6 +928,8 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     }
     plc.Holes.insert(plc.Holes.end(), c, c + 3);
   }
+  // And one inside each piece of the layer stack.
+  plc.Holes.insert(plc.Holes.end(), stack.HolePoints.begin(), stack.HolePoints.end());
   {
     std::vector<std::array<double, 3>> holes(plc.Holes.size() / 3);
     std::memcpy(holes.data(), plc.Holes.data(), plc.Holes.size() * sizeof(double));
@@ -741,29 +937,6 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     std::memcpy(plc.Holes.data(), holes.data(), plc.Holes.size() * sizeof(double));
   }
   plc.PointSizes = nodeSize;
-
-  // ---- S must lie inside the cavity: no S triangle may cross its boundary.
-  {
-    std::vector<Triangle> shell;
-    const std::size_t nShell = plc.TriangleMarkers.size() - sTris.size() / 3;
-    for (std::size_t t = 0; t < nShell; ++t)
-    {
-      const std::int64_t* f = &plc.Triangles[3 * t];
-      shell.emplace_back(P(&plc.Points[3 * f[0]]), P(&plc.Points[3 * f[1]]), P(&plc.Points[3 * f[2]]));
-    }
-    Tree shellTree(shell.begin(), shell.end());
-    for (std::size_t t = 0; t < sTris.size() / 3; ++t)
-    {
-      const Triangle tri(P(&sPoints[3 * sTris[3 * t]]), P(&sPoints[3 * sTris[3 * t + 1]]),
-        P(&sPoints[3 * sTris[3 * t + 2]]));
-      if (shellTree.do_intersect(tri))
-      {
-        error = "the feature surface crosses the boundary of the cavity (the kept mesh is too "
-                "close to it); raise RemovalFactor.";
-        return false;
-      }
-    }
-  }
 
   // ---- Refill.
   lap(out.Seconds.Cavity);
@@ -905,7 +1078,21 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       refillIndex[plcIndex[v]] = outIndex[v];
     }
   }
-  for (std::size_t k = static_cast<std::size_t>(nBoundaryNodes); k < nRefillPoints; ++k)
+  std::size_t firstSteiner = static_cast<std::size_t>(nBoundaryNodes);
+  std::int64_t stackOffset = 0;
+  if (layers)
+  {
+    // The stack's points (all of them), then TetGen's.
+    stackOffset = static_cast<std::int64_t>(out.SourcePoint.size());
+    out.SourcePoint.insert(out.SourcePoint.end(), stack.Points.size() / 3, -1);
+    out.Mesh.Points.insert(out.Mesh.Points.end(), stack.Points.begin(), stack.Points.end());
+    for (std::size_t j = 0; j < stackOuter.size(); ++j)
+    {
+      refillIndex[nBoundaryNodes + j] = stackOffset + stackOuter[j];
+    }
+    firstSteiner += stackOuter.size();
+  }
+  for (std::size_t k = firstSteiner; k < nRefillPoints; ++k)
   {
     refillIndex[k] = static_cast<std::int64_t>(out.SourcePoint.size());
     out.SourcePoint.push_back(-1);
@@ -930,6 +1117,35 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       out.Mesh.Tetrahedra.push_back(refillIndex[refill.Mesh.Tetrahedra[4 * t + k]]);
     }
     out.SourceCell.push_back(-1);
+  }
+  if (layers)
+  {
+    auto map = [&](std::vector<std::int64_t>& ids, const std::vector<std::int64_t>& from) {
+      for (std::int64_t id : from)
+      {
+        ids.push_back(id + stackOffset);
+      }
+    };
+    out.TetrahedronLayer.assign(out.SourceCell.size(), -1);
+    out.TetrahedronSide.assign(out.SourceCell.size(), 0);
+    map(out.Mesh.Tetrahedra, stack.Tetrahedra);
+    out.SourceCell.insert(out.SourceCell.end(), stack.Tetrahedra.size() / 4, -1);
+    out.TetrahedronLayer.insert(out.TetrahedronLayer.end(), stack.TetrahedronLayer.begin(), stack.TetrahedronLayer.end());
+    out.TetrahedronSide.insert(out.TetrahedronSide.end(), stack.TetrahedronSide.begin(), stack.TetrahedronSide.end());
+    map(out.Prisms, stack.Prisms);
+    out.PrismLayer = stack.PrismLayer;
+    out.PrismSide = stack.PrismSide;
+    map(out.Pyramids, stack.Pyramids);
+    out.PyramidLayer = stack.PyramidLayer;
+    out.PyramidSide = stack.PyramidSide;
+    out.FirstStackPoint = static_cast<std::size_t>(stackOffset);
+    out.NumberOfStackPoints = stack.Points.size() / 3;
+    out.LimitedColumns = stack.LimitedColumns;
+    out.LayerStackHeight = stackHeight;
+    // S: the faces between the two sides' innermost prisms (with one side,
+    // between the prisms and TetGen's tetrahedra).
+    map(out.Surface, sTris);
+    return true;
   }
   for (std::size_t f = 0; f < refill.FaceMarkers.size(); ++f)
   {

@@ -39,6 +39,7 @@
 #ifndef ARCavity_h
 #define ARCavity_h
 
+#include "ARPrismLayers.h"
 #include "ARTetGen.h"
 #include "ARTetMesh.h"
 
@@ -83,6 +84,18 @@ struct CavityOptions
   /// When not empty: the refill's complex is also written as TetGen input
   /// files under this prefix (see WriteTetGenFiles), the last attempt's.
   std::string RefillFilesPrefix;
+  /// Prism layers on both sides of S (ARPrismLayers.h); NumberOfLayers = 0
+  /// (the default) leaves them off and the refill is tetrahedra only. When on:
+  ///  - the removal radius grows by the stack's height z_N: V_j goes when it
+  ///    lies within RemovalFactor * max(l_si, l_vj) + z_N of a visible S_i;
+  ///  - S (after the trim, and with pinched points cleared: at a point where
+  ///    S's triangles form several fans only the largest fan stays) gets the
+  ///    layer stack, built against the cavity's boundary as obstacles;
+  ///  - TetGen fills the void between the cavity's boundary and the stack's
+  ///    outer surface (its triangles kept exactly, marker 4, a hole point
+  ///    inside the stack, the size at the stack's outer nodes = S's edge
+  ///    length there); S itself is not given to TetGen.
+  PrismLayerOptions Layers;
 };
 
 struct CavityRemesh
@@ -90,7 +103,7 @@ struct CavityRemesh
   TetMesh Mesh;                          ///< kept points (input order) then new ones; kept tets then new ones
   std::vector<std::int64_t> SourcePoint; ///< per output point: input point id, or -1 (new)
   std::vector<std::int64_t> SourceCell;  ///< per output tet: input tet id (kept), or -1 (new)
-  std::vector<std::int64_t> Surface;     ///< the embedded S triangles, output point ids
+  std::vector<std::int64_t> Surface;     ///< the embedded S triangles, output point ids (with layers: the faces between the two sides' innermost prisms)
   std::size_t RemovedNodes = 0;          ///< interior nodes of V removed
   std::size_t RemovedCells = 0;          ///< tetrahedra of V in the cavity
   std::size_t SurfaceTrianglesUsed = 0;  ///< S triangles left after the trim
@@ -104,6 +117,26 @@ struct CavityRemesh
   } Seconds;
   int RefillAttempts = 0; ///< TetGen runs (more than one when the cavity grew at forced slivers)
   std::size_t SurfaceTrianglesAtLockedCells = 0; ///< S triangles dropped at the locked cells
+
+  // ---- Prism layers (options.Layers on); all empty otherwise.
+  // Output points: kept points of V, then the stack's points (S's points,
+  // layer points, closure apices; ARPrismLayers.h), then TetGen's new ones.
+  // Mesh.Tetrahedra: kept tets, TetGen's tets, then the stack's closure
+  // tetrahedra at S's border (layer cells, thin by design).
+  std::vector<std::int64_t> Prisms;      ///< 6 output point ids each, VTK_WEDGE order
+  std::vector<int> PrismLayer;           ///< per prism: layer k, 0 next to S
+  std::vector<int> PrismSide;            ///< per prism: +1 on S's normal side, -1 on the other
+  std::vector<std::int64_t> Pyramids;    ///< 5 output point ids each, VTK_PYRAMID order (quad, apex)
+  std::vector<int> PyramidLayer;         ///< per pyramid: the layer of its quad
+  std::vector<int> PyramidSide;          ///< per pyramid: +1 or -1
+  /// Per output tetrahedron: -1 for kept and TetGen's tetrahedra, else the
+  /// layer of a closure tetrahedron of the stack.
+  std::vector<int> TetrahedronLayer;
+  std::vector<int> TetrahedronSide;      ///< per output tetrahedron: 0, or +1/-1 for closure ones
+  std::size_t FirstStackPoint = 0;       ///< output ids FirstStackPoint .. + NumberOfStackPoints - 1 are the stack's
+  std::size_t NumberOfStackPoints = 0;   ///< (S's points, layer points, closure apices, in ARPrismLayers' order)
+  std::size_t LimitedColumns = 0;        ///< stack columns lowered by obstacles/proximity/validity
+  double LayerStackHeight = 0.0;         ///< the requested height per side, z_N
 };
 
 /**
@@ -114,7 +147,9 @@ struct CavityRemesh
  * Returns false with `error` naming the problem for: an empty V or S, an
  * inverted cell, non-finite coordinates, S entirely outside V (or nothing of
  * S left after the trim), S crossing itself, S too close to the kept mesh
- * (it crosses the cavity's boundary: raise RemovalFactor), or a TetGen failure.
+ * (it crosses the cavity's boundary: raise RemovalFactor), or a TetGen failure;
+ * with prism layers also for bad layer options (named as PrismLayerDistances
+ * names them) or a stack that cannot be built (BuildPrismLayers' errors).
  */
 bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
   const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 //
-// BenchCavity: times ar::RemeshLocalCavity (LocalCavity and FullDomain) on
+// BenchCavity: times ar::RemeshLocalCavity (LocalCavity, LocalCavity with 5
+// prism layers per side, and FullDomain) on
 // Kuhn-subdivided unit cubes with a planar feature surface, and prints a
 // Markdown table. A benchmark, not a test.
 //
@@ -79,8 +80,8 @@ int main(int argc, char* argv[])
     sizes.push_back(std::atoi(argv[i]));
   if (sizes.empty())
     sizes = { 30, 55 };
-  std::printf("| mode | input tets | surface triangles | s | setup | removal | cavity | refill (runs) | assembly | new tets | new tets/s in TetGen | kept tets | peak RSS MB |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("| mode | input tets | surface triangles | s | setup | removal | cavity | refill (runs) | assembly | new tets (TetGen) | prisms | pyramids + closure tets | new tets/s in TetGen | kept tets | peak RSS MB |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int n : sizes)
   {
     const ar::TetMesh cube = artest::KuhnCube(n);
@@ -99,34 +100,43 @@ int main(int argc, char* argv[])
         const std::int64_t a = i + (m + 1) * j, b = a + 1, c = a + m + 2, d = a + m + 1;
         tris.insert(tris.end(), { a, b, c, a, c, d });
       }
-    for (int full = 0; full < 2; ++full)
+    for (int mode = 0; mode < 3; ++mode)
     {
+      static const char* names[3] = { "LocalCavity", "LocalCavity + prisms", "FullDomain" };
       ar::CavityOptions o;
-      o.FullDomain = full == 1;
-      const std::string prefix = "/tmp/BenchCavity_" + std::to_string(n) + (full ? "_full" : "_local");
+      o.FullDomain = mode == 2;
+      if (mode == 1)
+      {
+        o.Layers.NumberOfLayers = 5;
+        o.Layers.FirstLayerThickness = 0.05 / n;
+        o.Layers.GrowthRatio = 1.2;
+      }
+      const std::string prefix = "/tmp/BenchCavity_" + std::to_string(n) + "_" + std::to_string(mode);
       o.RefillFilesPrefix = prefix;
       ar::CavityRemesh r;
       std::string error;
       const double t0 = Now();
       const bool ok = ar::RemeshLocalCavity(cube, pts.data(), pts.size() / 3, tris.data(), tris.size() / 3, o, r, error);
       const double dt = Now() - t0;
-      std::size_t fresh = 0, kept = 0;
-      for (std::int64_t s : r.SourceCell)
-        (s < 0 ? fresh : kept) += 1;
+      std::size_t fresh = 0, kept = 0, closure = 0;
+      for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
+      {
+        const bool layer = !r.TetrahedronLayer.empty() && r.TetrahedronLayer[t] >= 0;
+        (r.SourceCell[t] >= 0 ? kept : layer ? closure : fresh) += 1;
+      }
+      const std::size_t prisms = r.Prisms.size() / 6, pyramids = r.Pyramids.size() / 5 + closure;
       if (!ok)
-        std::printf("| %s | %zu | %zu | failed: %s |\n", full ? "FullDomain" : "LocalCavity", cube.NumberOfTetrahedra(), tris.size() / 3, error.c_str());
+        std::printf("| %s | %zu | %zu | failed: %s |\n", names[mode], cube.NumberOfTetrahedra(), tris.size() / 3, error.c_str());
       else
       {
         const auto& s = r.Seconds;
-        std::printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f (%d) | %.2f | %zu | %.3g | %zu | %.0f |\n",
-          full ? "FullDomain" : "LocalCavity", cube.NumberOfTetrahedra(), tris.size() / 3, dt, s.Setup,
-          s.Removal, s.Cavity, s.Refill, r.RefillAttempts, s.Assembly, fresh, fresh / s.Refill, kept,
-          PeakRSSMB());
+        std::printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f (%d) | %.2f | %zu | %zu | %zu | %.3g | %zu | %.0f |\n",
+          names[mode], cube.NumberOfTetrahedra(), tris.size() / 3, dt, s.Setup, s.Removal, s.Cavity, s.Refill,
+          r.RefillAttempts, s.Assembly, fresh, prisms, pyramids, fresh / s.Refill, kept, PeakRSSMB());
       }
       std::fflush(stdout);
       if (ok)
-        standalone.push_back(Standalone(prefix, o.Quality, full ? "FullDomain" : "LocalCavity",
-          cube.NumberOfTetrahedra(), fresh / r.Seconds.Refill));
+        standalone.push_back(Standalone(prefix, o.Quality, names[mode], cube.NumberOfTetrahedra(), fresh / r.Seconds.Refill));
     }
   }
   std::printf("\nThe same refills by the `tetgen` program (Debian's, 1.5.0) on the complexes written with\n"

@@ -5,8 +5,10 @@
 #include "ARTetGeometry.h"
 #include "ARTetMesh.h"
 
+#include <array>
 #include <functional>
 #include <utility>
+#include <vector>
 
 namespace artest
 {
@@ -44,6 +46,32 @@ inline ar::TetMesh KuhnCube(int n, const std::function<bool(int, int, int)>& kee
         }
       }
   return m;
+}
+
+/// A triangulated surface: points (x y z) and triangles (3 ids).
+struct Surface
+{
+  std::vector<double> Points;
+  std::vector<std::int64_t> Triangles;
+};
+
+/// A triangulated grid over (u, v) in [u0,u1] x [v0,v1], mapped by `map`;
+/// its triangles' normals point along map_u x map_v.
+inline Surface Grid(int nu, int nv, double u0, double u1, double v0, double v1,
+  const std::function<std::array<double, 3>(double, double)>& map)
+{
+  Surface s;
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i <= nu; ++i)
+    {
+      const auto x = map(u0 + (u1 - u0) * i / nu, v0 + (v1 - v0) * j / nv);
+      s.Points.insert(s.Points.end(), x.begin(), x.end());
+    }
+  auto id = [nu](int i, int j) { return static_cast<std::int64_t>(i + (nu + 1) * j); };
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i)
+      s.Triangles.insert(s.Triangles.end(), { id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1) });
+  return s;
 }
 
 }

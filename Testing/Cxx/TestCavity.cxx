@@ -21,29 +21,8 @@ namespace
 {
 using artest::KuhnCube;
 
-struct Surface
-{
-  std::vector<double> Points;
-  std::vector<std::int64_t> Triangles;
-};
-
-/// A triangulated grid over (u, v) in [u0,u1] x [v0,v1], mapped by `map`.
-Surface Grid(int nu, int nv, double u0, double u1, double v0, double v1,
-  const std::function<std::array<double, 3>(double, double)>& map)
-{
-  Surface s;
-  for (int j = 0; j <= nv; ++j)
-    for (int i = 0; i <= nu; ++i)
-    {
-      const auto x = map(u0 + (u1 - u0) * i / nu, v0 + (v1 - v0) * j / nv);
-      s.Points.insert(s.Points.end(), x.begin(), x.end());
-    }
-  auto id = [nu](int i, int j) { return static_cast<std::int64_t>(i + (nu + 1) * j); };
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i)
-      s.Triangles.insert(s.Triangles.end(), { id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1) });
-  return s;
-}
+using artest::Grid;
+using artest::Surface;
 
 using Key = std::array<long long, 9>;
 

@@ -863,8 +863,11 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
         }
       }
       std::string why;
-      if (!BuildPrismLayers(sPoints.data(), sSize.size(), sTris.data(), sTris.size() / 3,
-            obstacles.data(), nShell, options.Layers, stack, why))
+      lap(out.Seconds.Cavity);
+      const bool built = BuildPrismLayers(sPoints.data(), sSize.size(), sTris.data(), sTris.size() / 3,
+        obstacles.data(), nShell, options.Layers, stack, why);
+      lap(out.Seconds.Layers);
+      if (!built)
       {
         error = "prism layers: " + why;
         return false;
@@ -1145,6 +1148,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     // S: the faces between the two sides' innermost prisms (with one side,
     // between the prisms and TetGen's tetrahedra).
     map(out.Surface, sTris);
+    lap(out.Seconds.Assembly);
     return true;
   }
   for (std::size_t f = 0; f < refill.FaceMarkers.size(); ++f)

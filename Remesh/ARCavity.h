@@ -110,10 +110,11 @@ struct CavityRemesh
   /// Wall-clock seconds of the stages: the sizes and face adjacency of V
   /// (Setup), S's trim and the removal test with visibility (Removal), the
   /// cavity and its boundary complex (Cavity), TetGen (Refill, all
-  /// attempts), the assembly of the output (Assembly).
+  /// attempts), the prism-layer extrusion (Layers, all attempts), the
+  /// assembly of the output (Assembly).
   struct StageTimes
   {
-    double Setup = 0.0, Removal = 0.0, Cavity = 0.0, Refill = 0.0, Assembly = 0.0;
+    double Setup = 0.0, Removal = 0.0, Cavity = 0.0, Refill = 0.0, Layers = 0.0, Assembly = 0.0;
   } Seconds;
   int RefillAttempts = 0; ///< TetGen runs (more than one when the cavity grew at forced slivers)
   std::size_t SurfaceTrianglesAtLockedCells = 0; ///< S triangles dropped at the locked cells

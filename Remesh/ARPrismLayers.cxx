@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARPrismLayers.h"
+#include "ARCellQuality.h"
 #include "ARUnionFind.h"
 
 #include <CGAL/AABB_traits.h>
@@ -64,17 +65,6 @@ double Det(const Vec& a, const Vec& b, const Vec& c)
   return a.dot(b.cross(c));
 }
 
-/// det(b - a, c - a, d - a) / (|b - a| |c - a| |d - a|); 0 for a zero edge.
-double ScaledCorner(const Vec& a, const Vec& b, const Vec& c, const Vec& d)
-{
-  const Vec u = b - a, v = c - a, w = d - a;
-  const double l = u.norm() * v.norm() * w.norm();
-  return l > 0.0 ? Det(u, v, w) / l : 0.0;
-}
-
-constexpr int WedgeCorner[6][4] = { { 0, 2, 1, 3 }, { 1, 0, 2, 4 }, { 2, 1, 0, 5 }, { 3, 4, 5, 0 },
-  { 4, 5, 3, 1 }, { 5, 3, 4, 2 } };
-
 /// Distance from `origin` to the first hit of a ray, or +inf.
 template <typename Result>
 double HitDistance(const Result& hit, const Point& origin)
@@ -113,23 +103,6 @@ std::string Num(double v)
   s << v;
   return s.str();
 }
-}
-
-void WedgeScaledCornerJacobians(const double* p, double jacobians[6])
-{
-  for (int c = 0; c < 6; ++c)
-  {
-    const int* k = WedgeCorner[c];
-    jacobians[c] = ScaledCorner(At(p + 3 * k[0]), At(p + 3 * k[1]), At(p + 3 * k[2]), At(p + 3 * k[3]));
-  }
-}
-
-void PyramidScaledCornerJacobians(const double* p, double jacobians[4])
-{
-  for (int i = 0; i < 4; ++i)
-  {
-    jacobians[i] = ScaledCorner(At(p + 3 * i), At(p + 3 * ((i + 1) % 4)), At(p + 3 * ((i + 3) % 4)), At(p + 12));
-  }
 }
 
 bool PrismLayerDistances(const PrismLayerOptions& o, std::vector<double>& z, std::string& error)
@@ -857,7 +830,7 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
           {
             std::copy(&pts[3 * w[i]], &pts[3 * w[i]] + 3, p + 3 * i);
           }
-          WedgeScaledCornerJacobians(p, j);
+          CellCornerJacobians(CellShape::Wedge, p, j, true);
           const double topArea = (At(p + 12) - At(p + 9)).cross(At(p + 15) - At(p + 9)).norm();
           if (*std::min_element(j, j + 6) < prismFloor[t] || topArea < MinAreaRatio * faceNormal[t].norm())
           {
@@ -897,12 +870,12 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
         for (int k = K[g]; k < K[g + 1]; ++k)
         {
           const std::array<std::int64_t, 5> q = { id(a, k), id(b, k), id(b, k + 1), id(a, k + 1), edgeApex(ee, g) };
-          double p[15], j[4];
+          double p[15], j[5]; // the four base corners, then the apex
           for (int i = 0; i < 5; ++i)
           {
             std::copy(&pts[3 * q[i]], &pts[3 * q[i]] + 3, p + 3 * i);
           }
-          PyramidScaledCornerJacobians(p, j);
+          CellCornerJacobians(CellShape::Pyramid, p, j, true);
           if (*std::min_element(j, j + 4) < floor)
           {
             shrinkH[2 * a + (k >= 0 ? 0 : 1)] = shrinkH[2 * b + (k >= 0 ? 0 : 1)] = 1;

@@ -201,14 +201,6 @@ bool PrismLayerDistances(const PrismLayerOptions& options, std::vector<double>& 
 bool BuildPrismLayers(const double* points, std::size_t nPoints, const std::int64_t* triangles,
   std::size_t nTriangles, const double* obstacleTriangles, std::size_t nObstacleTriangles,
   const PrismLayerOptions& options, PrismStack& out, std::string& error);
-
-/// The six corner Jacobians of a VTK_WEDGE (p: 18 coordinates), each divided
-/// by the lengths of its three edges (1 for a right prism on a right angle).
-void WedgeScaledCornerJacobians(const double* p, double jacobians[6]);
-
-/// The four base-corner Jacobians of a VTK_PYRAMID (p: 15 coordinates),
-/// each divided by the lengths of its three edges.
-void PyramidScaledCornerJacobians(const double* p, double jacobians[4]);
 }
 
 #endif

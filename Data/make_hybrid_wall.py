@@ -37,9 +37,11 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "Testing", "Python"))
 
 from analytic_shock import ObliqueShock  # noqa: E402
 from make_analytic_shock import _vtk_array, read_back, write_vtu  # noqa: E402
+from artest import corner_jacobians  # noqa: E402
 
 from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints  # noqa: E402
@@ -75,27 +77,10 @@ Mesh.RandomSeed = 1;
 # Gmsh element type -> (VTK type, number of nodes)
 GMSH_TYPES = {4: (VTK_TETRA, 4), 5: (VTK_HEXAHEDRON, 8), 6: (VTK_WEDGE, 6), 7: (VTK_PYRAMID, 5)}
 
-# Per VTK type: the corners (node, three edge ends) whose determinant is
-# positive for a valid cell, and the node swap that inverts the cell.
-CORNERS = {
-    VTK_TETRA: [(0, 1, 2, 3)],
-    VTK_PYRAMID: [(0, 1, 3, 4), (1, 2, 0, 4), (2, 3, 1, 4), (3, 0, 2, 4)],
-    VTK_WEDGE: [(0, 2, 1, 3), (1, 0, 2, 4), (2, 1, 0, 5), (3, 4, 5, 0), (4, 5, 3, 1), (5, 3, 4, 2)],
-    VTK_HEXAHEDRON: [(0, 1, 3, 4), (1, 2, 0, 5), (2, 3, 1, 6), (3, 0, 2, 7),
-                     (4, 7, 5, 0), (5, 4, 6, 1), (6, 5, 7, 2), (7, 6, 4, 3)],
-}
+# Per VTK type: the node swap that inverts a cell (the corner Jacobians are
+# the tests' own, Testing/Python/artest.py).
 FLIP = {VTK_TETRA: [0, 2, 1, 3], VTK_PYRAMID: [0, 3, 2, 1, 4], VTK_WEDGE: [0, 2, 1, 3, 5, 4],
         VTK_HEXAHEDRON: [0, 3, 2, 1, 4, 7, 6, 5]}
-
-
-def corner_jacobians(points, cells, vtk_type):
-    """(n_cells, n_corners) determinants of the corners' edge vectors."""
-    out = []
-    for p, a, b, c in CORNERS[vtk_type]:
-        x = points[cells[:, p]]
-        out.append(np.einsum("ij,ij->i", points[cells[:, a]] - x,
-                             np.cross(points[cells[:, b]] - x, points[cells[:, c]] - x)))
-    return np.column_stack(out)
 
 
 def read_msh22(path):

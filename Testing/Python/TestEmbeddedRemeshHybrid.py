@@ -26,100 +26,21 @@ which crosses the wall and the layers.
 import numpy as np
 from paraview.simple import *
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonCore import reference, vtkOutputWindow, vtkStringOutputWindow
-from vtkmodules.vtkCommonDataModel import (
-    VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_WEDGE, vtkStaticCellLocator, vtkGenericCell)
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonDataModel import VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_WEDGE
 from vtkmodules.vtkFiltersExtraction import vtkExtractCellsByType
-from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
 
 import artest
-from artest import check
-from make_hybrid_wall import corner_jacobians
+from artest import (FACES, by_type, cell_sizes, cells_of, check, coord_key, corner_jacobians, distance, edge_ratio,
+                    face_cells, faces, locator_of, polygon_angles, skin)
 
 artest.load_plugin(globals())
 messages = vtkStringOutputWindow()
 vtkOutputWindow.SetInstance(messages)
 
 LAYER_TYPES = (VTK_WEDGE, VTK_HEXAHEDRON, VTK_PYRAMID)
-# Faces of each cell type, outward for a valid cell (VTK's order).
-FACES = {
-    VTK_TETRA: [(1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1)],
-    VTK_PYRAMID: [(0, 3, 2, 1), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
-    VTK_WEDGE: [(0, 1, 2), (3, 5, 4), (0, 3, 4, 1), (1, 4, 5, 2), (2, 5, 3, 0)],
-    VTK_HEXAHEDRON: [(0, 4, 7, 3), (1, 2, 6, 5), (0, 1, 5, 4), (3, 7, 6, 2), (0, 3, 2, 1), (4, 5, 6, 7)],
-}
 MARGIN = 1.0        # EmbeddedRemesh's BoundaryMargin (default)
 EDGE = 0.05         # SurfaceEdgeLength: S finer than the mesh (h = 0.1)
-
-
-def cells_of(ds):
-    """Per cell: its type and its point ids (a list of arrays)."""
-    vtk = ds.VTKObject
-    offsets = vtk_to_numpy(vtk.GetCells().GetOffsetsArray())
-    conn = vtk_to_numpy(vtk.GetCells().GetConnectivityArray())
-    types = vtk_to_numpy(vtk.GetCellTypesArray())
-    return types, [conn[offsets[c]:offsets[c + 1]] for c in range(len(types))]
-
-
-def by_type(types, cells, t):
-    idx = np.nonzero(types == t)[0]
-    return idx, (np.array([cells[c] for c in idx]) if len(idx) else np.zeros((0, 1), dtype=np.int64))
-
-
-def coord_key(P, ids):
-    c = np.round(P[list(ids)] * 1e9).astype(np.int64)
-    return tuple(sorted(map(tuple, c)))
-
-
-def faces(P, types, cells):
-    """Every face (by its sorted rounded corner coordinates): how many cells
-    use it, and the corners of one of them."""
-    count, corners = {}, {}
-    for t, ids in zip(types, cells):
-        for f in FACES[int(t)]:
-            key = coord_key(P, ids[list(f)])
-            count[key] = count.get(key, 0) + 1
-            corners[key] = ids[list(f)]
-    return count, corners
-
-
-def volumes(proxy):
-    return np.asarray(artest.fetch(CellSize(Input=proxy, ComputeVolume=1, ComputeArea=0, ComputeLength=0,
-                                            ComputeVertexCount=0)).CellData["Volume"])
-
-
-def polygon_angles(P, poly):
-    """Interior angles (degrees) of each polygon (rows of point ids)."""
-    n = poly.shape[1]
-    out = []
-    for k in range(n):
-        a, b, c = P[poly[:, (k - 1) % n]], P[poly[:, k]], P[poly[:, (k + 1) % n]]
-        u, v = a - b, c - b
-        cos = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
-        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
-    return np.column_stack(out)
-
-
-def edge_ratio(P, cells, t):
-    edges = set()
-    for f in FACES[t]:
-        for k in range(len(f)):
-            edges.add(tuple(sorted((f[k], f[(k + 1) % len(f)]))))
-    L = np.column_stack([np.linalg.norm(P[cells[:, a]] - P[cells[:, b]], axis=1) for a, b in edges])
-    return L.max(axis=1) / L.min(axis=1)
-
-
-def locator_of(polydata):
-    loc = vtkStaticCellLocator()
-    loc.SetDataSet(polydata)
-    loc.BuildLocator()
-    return loc
-
-
-def distance(loc, x):
-    closest, cid, sub, d2 = [0.0, 0.0, 0.0], reference(0), reference(0), reference(0.0)
-    loc.FindClosestPoint(list(x), closest, vtkGenericCell(), cid, sub, d2)
-    return float(np.sqrt(d2.get()))
 
 
 # ---- Input and run.
@@ -179,7 +100,7 @@ for t, name in ((VTK_TETRA, "tetrahedra"), (VTK_WEDGE, "prisms"), (VTK_HEXAHEDRO
     check(len(idx) > 0 and j.min() > 0, "every corner Jacobian of the %d %s is positive (min %.3e)"
           % (len(idx), name, j.min()))
 check(artest.field(out, "NonPositiveJacobianCells")[0] == 0, "NonPositiveJacobianCells is 0")
-vol0, vol1 = volumes(mesh), volumes(er)
+vol0, vol1 = cell_sizes(mesh), cell_sizes(er)
 check(vol1.min() > 0 and abs(vol1.sum() / vol0.sum() - 1) < 1e-9,
       "every cell has a positive volume, the total is conserved (%.1e relative)" % (vol1.sum() / vol0.sum() - 1))
 count0, _ = faces(P0, types0, cells0)
@@ -189,12 +110,7 @@ b0 = {k for k, c in count0.items() if c == 1}
 b1 = {k for k, c in count1.items() if c == 1}
 nquads = sum(1 for k in b0 if len(k) == 4)
 check(b0 == b1, "the boundary is the input's, face for face (%d faces, %d of them quads)" % (len(b0), nquads))
-edges = {}
-for k in b1:
-    ids = corners1[k]
-    for a in range(len(ids)):
-        e = tuple(sorted((int(ids[a]), int(ids[(a + 1) % len(ids)]))))
-        edges[e] = edges.get(e, 0) + 1
+edges = artest.boundary_edges(corners1, b1)
 check(set(edges.values()) == {2}, "watertight: each of the %d boundary edges is in two boundary faces" % len(edges))
 S = vtk_to_numpy(emb.VTKObject.GetPolys().GetConnectivityArray()).reshape(-1, 3)
 PS = np.asarray(emb.Points, dtype=np.float64)
@@ -211,14 +127,9 @@ extract = vtkExtractCellsByType()
 extract.SetInputData(src.VTKObject)
 for t in LAYER_TYPES:
     extract.AddCellType(t)
-skin = vtkGeometryFilter()
-skin.SetInputConnection(extract.GetOutputPort())
-skin.Update()
-layers = locator_of(skin.GetOutput())
-domain_skin = vtkGeometryFilter()
-domain_skin.SetInputData(src.VTKObject)
-domain_skin.Update()
-domain = locator_of(domain_skin.GetOutput())
+extract.Update()
+layers = locator_of(skin(extract.GetOutput()))
+domain = locator_of(skin(src.VTKObject))
 longest = np.zeros(len(PS))
 for k in range(3):
     a, b = S[:, k], S[:, (k + 1) % 3]
@@ -265,10 +176,7 @@ for t, name, poly in ((VTK_WEDGE, "prisms", [0, 1, 2]), (VTK_HEXAHEDRON, "hexahe
 new = np.nonzero(region == 1)[0]
 check(len(new) > 0 and (types1[new] == VTK_TETRA).all(), "the %d new cells are tetrahedra" % len(new))
 # A new tetrahedron under 10 degrees is allowed only next to a kept cell with a worse angle.
-neighbours = {}
-for c, (t, ids) in enumerate(zip(types1, cells1)):
-    for f in FACES[int(t)]:
-        neighbours.setdefault(coord_key(P1, ids[list(f)]), []).append(c)
+neighbours, _ = face_cells(P1, types1, cells1)
 excused = 0
 bad = []
 for c in new[mind[new] < 10.0]:

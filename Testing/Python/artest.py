@@ -154,3 +154,209 @@ def grid_of(points, cells):
     for t, ids in cells:
         g.InsertNextCell(t, len(ids), ids)
     return g
+
+
+# ---------------------------------------------------------------------------
+# Mixed meshes (tetrahedra, pyramids, prisms, hexahedra) in numpy: the
+# validity checks of the EmbeddedRemesh tests, independent of the filters'
+# own quality arrays. Node order and orientation are VTK's (the one
+# vtkCellSizeFilter measures as a positive volume; see Remesh/ARCellQuality.h).
+
+VTK_TETRA, VTK_HEXAHEDRON, VTK_WEDGE, VTK_PYRAMID = 10, 12, 13, 14
+
+# Faces of each cell type, outward (right-hand normal) for a valid cell.
+FACES = {
+    VTK_TETRA: [(1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1)],
+    VTK_PYRAMID: [(0, 3, 2, 1), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
+    VTK_WEDGE: [(0, 1, 2), (3, 5, 4), (0, 3, 4, 1), (1, 4, 5, 2), (2, 5, 3, 0)],
+    VTK_HEXAHEDRON: [(0, 4, 7, 3), (1, 2, 6, 5), (0, 1, 5, 4), (3, 7, 6, 2), (0, 3, 2, 1), (4, 5, 6, 7)],
+}
+
+# Per type: the corners (node, three edge ends) whose determinant is positive
+# for a valid cell. The pyramid's apex has four edges: it is valid when its
+# base corners are and the base is on the apex's inner side, which the four
+# base corners (each with the apex as third edge end) already see.
+CORNERS = {
+    VTK_TETRA: [(0, 1, 2, 3)],
+    VTK_PYRAMID: [(0, 1, 3, 4), (1, 2, 0, 4), (2, 3, 1, 4), (3, 0, 2, 4)],
+    VTK_WEDGE: [(0, 2, 1, 3), (1, 0, 2, 4), (2, 1, 0, 5), (3, 4, 5, 0), (4, 5, 3, 1), (5, 3, 4, 2)],
+    VTK_HEXAHEDRON: [(0, 1, 3, 4), (1, 2, 0, 5), (2, 3, 1, 6), (3, 0, 2, 7),
+                     (4, 7, 5, 0), (5, 4, 6, 1), (6, 5, 7, 2), (7, 6, 4, 3)],
+}
+TYPE_NAMES = {VTK_TETRA: "tetrahedra", VTK_PYRAMID: "pyramids", VTK_WEDGE: "prisms", VTK_HEXAHEDRON: "hexahedra"}
+
+
+def corner_jacobians(points, cells, vtk_type):
+    """(n_cells, n_corners) determinants of the corners' edge vectors."""
+    out = []
+    for p, a, b, c in CORNERS[vtk_type]:
+        x = points[cells[:, p]]
+        out.append(np.einsum("ij,ij->i", points[cells[:, a]] - x,
+                             np.cross(points[cells[:, b]] - x, points[cells[:, c]] - x)))
+    return np.column_stack(out)
+
+
+def cells_of(ds):
+    """Per cell of a wrapped grid: its type and its point ids (a list of arrays)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    vtk = ds.VTKObject
+    offsets = vtk_to_numpy(vtk.GetCells().GetOffsetsArray())
+    conn = vtk_to_numpy(vtk.GetCells().GetConnectivityArray())
+    types = vtk_to_numpy(vtk.GetCellTypesArray())
+    return types, [conn[offsets[c]:offsets[c + 1]] for c in range(len(types))]
+
+
+def by_type(types, cells, t):
+    """The ids of the cells of type t and their point ids as one array."""
+    idx = np.nonzero(types == t)[0]
+    return idx, (np.array([cells[c] for c in idx]) if len(idx) else np.zeros((0, 1), dtype=np.int64))
+
+
+def _sorted_corners(P, ids):
+    """(m, k) point ids -> (m, 3 k) int64: each polygon's corners rounded to
+    1e-9 and sorted, i.e. the polygon named by its coordinates."""
+    c = np.round(P[ids] * 1e9).astype(np.int64)
+    order = np.lexsort((c[:, :, 2], c[:, :, 1], c[:, :, 0]), axis=1)
+    return np.take_along_axis(c, order[:, :, None], axis=1).reshape(len(c), -1)
+
+
+def coord_key(P, ids):
+    """A face (triangle or quad: its point ids) named by its coordinates, so
+    that meshes with different point numberings can be compared."""
+    return _sorted_corners(P, np.asarray(ids, dtype=np.int64)[None, :])[0].tobytes()
+
+
+def face_cells(P, types, cells):
+    """Every face of every cell (by coord_key): the cells that have it, and
+    the point ids of the face in one of them (outward for that cell)."""
+    owners, corners = {}, {}
+    for t, fs in FACES.items():
+        idx, C = by_type(types, cells, t)
+        if len(idx) == 0:
+            continue
+        for f in fs:
+            ids = C[:, list(f)]
+            for c, k, i in zip(idx, _sorted_corners(P, ids), ids):
+                key = k.tobytes()
+                owners.setdefault(key, []).append(int(c))
+                corners[key] = i
+    return owners, corners
+
+
+def faces(P, types, cells):
+    """Every face (by coord_key): how many cells use it, and the corners of one of them."""
+    owners, corners = face_cells(P, types, cells)
+    return {k: len(v) for k, v in owners.items()}, corners
+
+
+def boundary_edges(corners, keys):
+    """How many of the faces `keys` (coord_keys with their point ids in
+    `corners`) use each edge: a watertight boundary uses each twice."""
+    edges = {}
+    for k in keys:
+        ids = corners[k]
+        for a in range(len(ids)):
+            e = tuple(sorted((int(ids[a]), int(ids[(a + 1) % len(ids)]))))
+            edges[e] = edges.get(e, 0) + 1
+    return edges
+
+
+def cell_volumes(P, types, cells):
+    """Every cell's volume by the divergence theorem over its outward faces:
+    V = sum over faces of the signed volume of (x0, face), a quad split into
+    four triangles at its centroid (the same split from both cells that share
+    it, so the volumes of a conforming mesh add up to the domain's)."""
+    vol = np.zeros(len(types))
+    for t, fs in FACES.items():
+        idx, C = by_type(types, cells, t)
+        if len(idx) == 0:
+            continue
+        x0 = P[C[:, 0]]
+        v = np.zeros(len(idx))
+        for f in fs:
+            X = [P[C[:, i]] - x0 for i in f]
+            if len(f) == 3:
+                v += np.einsum("ij,ij->i", X[0], np.cross(X[1], X[2]))
+            else:
+                m = sum(X) / 4.0
+                for k in range(4):
+                    v += np.einsum("ij,ij->i", X[k], np.cross(X[(k + 1) % 4], m))
+        vol[idx] = v / 6.0
+    return vol
+
+
+def dihedral_angles(P, cells, t):
+    """(n_cells, n_edges) interior dihedral angles (degrees) of cells of type
+    t: at each edge, 180 minus the angle between the outward normals of its
+    two faces (a quad's normal: the cross product of its diagonals)."""
+    fs = FACES[t]
+    normals = []
+    for f in fs:
+        if len(f) == 3:
+            n = np.cross(P[cells[:, f[1]]] - P[cells[:, f[0]]], P[cells[:, f[2]]] - P[cells[:, f[0]]])
+        else:
+            n = np.cross(P[cells[:, f[2]]] - P[cells[:, f[0]]], P[cells[:, f[3]]] - P[cells[:, f[1]]])
+        normals.append(n / np.linalg.norm(n, axis=1)[:, None])
+    out = []
+    for i in range(len(fs)):
+        for j in range(i + 1, len(fs)):
+            if len(set(fs[i]) & set(fs[j])) == 2:  # the two faces share an edge
+                c = -np.einsum("ij,ij->i", normals[i], normals[j])
+                out.append(np.degrees(np.arccos(np.clip(c, -1, 1))))
+    return np.column_stack(out)
+
+
+def cell_sizes(proxy):
+    """vtkCellSizeFilter's (CellSize's) volume of every cell of a proxy's output."""
+    from paraview.simple import CellSize
+    return np.asarray(fetch(CellSize(Input=proxy, ComputeVolume=1, ComputeArea=0, ComputeLength=0,
+                                     ComputeVertexCount=0)).CellData["Volume"])
+
+
+def polygon_angles(P, poly):
+    """Interior angles (degrees) of each polygon (rows of point ids)."""
+    n = poly.shape[1]
+    out = []
+    for k in range(n):
+        a, b, c = P[poly[:, (k - 1) % n]], P[poly[:, k]], P[poly[:, (k + 1) % n]]
+        u, v = a - b, c - b
+        cos = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
+        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return np.column_stack(out)
+
+
+def edge_ratio(P, cells, t):
+    """Longest / shortest edge of each cell of type t."""
+    edges = set()
+    for f in FACES[t]:
+        for k in range(len(f)):
+            edges.add(tuple(sorted((f[k], f[(k + 1) % len(f)]))))
+    L = np.column_stack([np.linalg.norm(P[cells[:, a]] - P[cells[:, b]], axis=1) for a, b in edges])
+    return L.max(axis=1) / L.min(axis=1)
+
+
+def locator_of(polydata):
+    """A cell locator on a vtkPolyData (for distance)."""
+    from vtkmodules.vtkCommonDataModel import vtkStaticCellLocator
+    loc = vtkStaticCellLocator()
+    loc.SetDataSet(polydata)
+    loc.BuildLocator()
+    return loc
+
+
+def distance(loc, x):
+    """The distance from the point x to the cells of a locator_of."""
+    from vtkmodules.vtkCommonCore import reference
+    from vtkmodules.vtkCommonDataModel import vtkGenericCell
+    closest, cid, sub, d2 = [0.0, 0.0, 0.0], reference(0), reference(0), reference(0.0)
+    loc.FindClosestPoint(list(x), closest, vtkGenericCell(), cid, sub, d2)
+    return float(np.sqrt(d2.get()))
+
+
+def skin(grid):
+    """The boundary surface of a vtkUnstructuredGrid (vtkGeometryFilter)."""
+    from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
+    g = vtkGeometryFilter()
+    g.SetInputData(grid)
+    g.Update()
+    return g.GetOutput()

@@ -5,6 +5,7 @@
 
 #include "ARCavity.h"
 #include "ARCellQuality.h"
+#include "ARPrismLayers.h"
 #include "ARSurfaceRemesh.h"
 #include "ARTetGeometry.h"
 #include "vtkARMeshKernels.h"
@@ -61,6 +62,52 @@ vtkStandardNewMacro(vtkEmbeddedRemesh);
 
 namespace
 {
+/// The prism-layer options from the filter's properties (NumberOfLayers = 0
+/// when LayerType is Tetrahedra). `edge`: the surface edge length, for the
+/// automatic first layer (a tenth of it). False with `problem` naming the
+/// bad property.
+bool LayerOptionsOf(vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions& layers, std::string& problem)
+{
+  layers = ar::PrismLayerOptions();
+  if (self->GetLayerType() == vtkEmbeddedRemesh::TETRAHEDRA)
+  {
+    return true;
+  }
+  std::ostringstream msg;
+  if (self->GetLayerType() != vtkEmbeddedRemesh::PRISMS)
+  {
+    msg << "LayerType is " << self->GetLayerType() << "; it must be 0 (Tetrahedra) or 1 (Prisms).";
+  }
+  else if (self->GetNumberOfLayers() < 1 || self->GetNumberOfLayers() > 100)
+  {
+    msg << "NumberOfLayers is " << self->GetNumberOfLayers() << "; prism layers need 1 to 100 per side.";
+  }
+  else if (!(self->GetGrowthRatio() > 0.0) || !std::isfinite(self->GetGrowthRatio()))
+  {
+    msg << "GrowthRatio is " << self->GetGrowthRatio() << "; it must be a positive number.";
+  }
+  else if (!(self->GetFirstLayerThickness() >= 0.0) || !std::isfinite(self->GetFirstLayerThickness()))
+  {
+    msg << "FirstLayerThickness is " << self->GetFirstLayerThickness()
+        << "; it must be positive (or 0 for a tenth of the surface edge length).";
+  }
+  else if (!(self->GetTotalThickness() >= 0.0) || !std::isfinite(self->GetTotalThickness()))
+  {
+    msg << "TotalThickness is " << self->GetTotalThickness() << "; it must be positive (or 0 to use FirstLayerThickness).";
+  }
+  if (!msg.str().empty())
+  {
+    problem = "EmbeddedRemesh: " + msg.str();
+    return false;
+  }
+  layers.NumberOfLayers = self->GetNumberOfLayers();
+  layers.GrowthRatio = self->GetGrowthRatio();
+  layers.TotalThickness = self->GetTotalThickness();
+  layers.FirstLayerThickness =
+    self->GetFirstLayerThickness() > 0.0 ? self->GetFirstLayerThickness() : 0.1 * edge;
+  return true;
+}
+
 /// The feature surfaces as bare triangles (geometry only: their arrays are
 /// not wanted), added to `append`.
 void AddSurfaceTriangles(const std::vector<vtkDataSet*>& surfaces, vtkAppendPolyData* append)
@@ -154,9 +201,12 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
         sums.NewDihedralSum += q.MinDihedralAngle;
         sums.NewMaxAspectRatio = std::max(sums.NewMaxAspectRatio, q.AspectRatio);
       }
-      else if (shape != ar::CellShape::Tetrahedron)
+      else if (region->GetValue(c) == 2 || shape != ar::CellShape::Tetrahedron)
       {
+        // layer cells: new prism layers, kept non-tetrahedral (near-wall) cells
         sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, q.AspectRatio);
+        sums.LayerMinDihedral = std::min(sums.LayerMinDihedral, q.MinDihedralAngle);
+        sums.LayerCells += 1.0;
       }
     }
   };
@@ -178,6 +228,8 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
     sums.NewDihedralSum += s.NewDihedralSum;
     sums.NewMaxAspectRatio = std::max(sums.NewMaxAspectRatio, s.NewMaxAspectRatio);
     sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, s.LayerMaxAspectRatio);
+    sums.LayerMinDihedral = std::min(sums.LayerMinDihedral, s.LayerMinDihedral);
+    sums.LayerCells += s.LayerCells;
     sums.NonPositiveJacobian += s.NonPositiveJacobian;
   }
   output->GetCellData()->AddArray(minAngle);
@@ -196,6 +248,7 @@ void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmb
   field("MeanDihedralAngleNew", any ? sums.NewDihedralSum / sums.NewCells : 0.0);
   field("MaxAspectRatioNew", sums.NewMaxAspectRatio);
   field("MaxAspectRatioLayerCells", sums.LayerMaxAspectRatio);
+  field("MinDihedralAngleLayerCells", sums.LayerCells > 0.0 ? sums.LayerMinDihedral : 0.0);
   field("NonPositiveJacobianCells", sums.NonPositiveJacobian);
 }
 
@@ -382,6 +435,11 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     vtkEmbeddedRemeshLayout layout;
     if (vtkEmbeddedRemeshDetect2D(input, layout, not2D))
     {
+      if (this->LayerType != TETRAHEDRA)
+      {
+        return passThrough("EmbeddedRemesh: LayerType Prisms is for 3-D meshes; this mesh is one cell "
+                           "deep (2-D mode). Use Tetrahedra, or set TwoDimensional to Off.");
+      }
       return this->Remesh2D(input, layout, surfaces, output, embedded, planes);
     }
   }
@@ -549,6 +607,11 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   options.FullDomain = this->Mode == FULL_DOMAIN;
   options.Quality.MaxRadiusEdgeRatio = this->MaxRadiusEdgeRatio;
   options.Quality.MinDihedralAngle = this->MinDihedralAngle;
+  std::string layerProblem;
+  if (!LayerOptionsOf(this, edge, options.Layers, layerProblem))
+  {
+    return passThrough(layerProblem);
+  }
   ar::CavityRemesh result;
   if (!ar::RemeshLocalCavity(tets, rPoints.data(), rPoints.size() / 3, rTris.data(), rTris.size() / 3,
         options, result, error))
@@ -581,18 +644,30 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   const auto nTets = static_cast<vtkIdType>(result.SourceCell.size());
   output->Allocate(nTets + static_cast<vtkIdType>(otherCell.size()));
   std::vector<vtkIdType> sourceCell; // input cell of each output cell, -1 new
-  vtkNew<vtkIntArray> region;
-  region->SetName("Region");
-  vtkIdType newCount = 0;
+  vtkNew<vtkIntArray> region, layer, side;
+  region->SetName("Region"); // 0 kept, 1 new tetrahedron of the refill, 2 layer cell
+  layer->SetName("Layer");   // layer cells: k, 0 next to S; others -1
+  side->SetName("LayerSide"); // layer cells: +1 on S's normal side, -1 on the other; others 0
+  vtkIdType newCount = 0, layerCount = 0, closureCount = 0;
+  auto addCell = [&](int type, vtkIdType n, const vtkIdType* pts, vtkIdType src, int reg, int k, int s) {
+    output->InsertNextCell(type, n, pts);
+    sourceCell.push_back(src);
+    region->InsertNextValue(reg);
+    layer->InsertNextValue(k);
+    side->InsertNextValue(s);
+    newCount += reg > 0 ? 1 : 0;
+    layerCount += reg == 2 ? 1 : 0;
+  };
+  const bool layered = !result.TetrahedronLayer.empty();
   for (vtkIdType t = 0; t < nTets; ++t)
   {
     const std::int64_t* v = &result.Mesh.Tetrahedra[4 * t];
     const vtkIdType pts[4] = { v[0], v[1], v[2], v[3] };
-    output->InsertNextCell(VTK_TETRA, 4, pts);
     const std::int64_t src = result.SourceCell[t];
-    sourceCell.push_back(src >= 0 ? tetCell[src] : -1);
-    region->InsertNextValue(src >= 0 ? 0 : 1);
-    newCount += src < 0 ? 1 : 0;
+    const int k = layered ? result.TetrahedronLayer[t] : -1;
+    closureCount += k >= 0 ? 1 : 0;
+    addCell(VTK_TETRA, 4, pts, src >= 0 ? tetCell[src] : -1, src >= 0 ? 0 : k >= 0 ? 2 : 1, k,
+      k >= 0 ? result.TetrahedronSide[t] : 0);
   }
   for (vtkIdType c : otherCell)
   {
@@ -616,13 +691,28 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
         }
       }
       output->InsertNextCell(VTK_POLYHEDRON, faces);
+      sourceCell.push_back(c);
+      region->InsertNextValue(0);
+      layer->InsertNextValue(-1);
+      side->InsertNextValue(0);
     }
     else
     {
-      output->InsertNextCell(input->GetCellType(c), ids);
+      addCell(input->GetCellType(c), ids->GetNumberOfIds(), ids->GetPointer(0), c, 0, -1, 0);
     }
-    sourceCell.push_back(c);
-    region->InsertNextValue(0);
+  }
+  // The prism layers and the pyramids closing them at S's border.
+  for (std::size_t p = 0; p < result.Prisms.size() / 6; ++p)
+  {
+    vtkIdType pts[6];
+    std::copy(&result.Prisms[6 * p], &result.Prisms[6 * p] + 6, pts);
+    addCell(VTK_WEDGE, 6, pts, -1, 2, result.PrismLayer[p], result.PrismSide[p]);
+  }
+  for (std::size_t p = 0; p < result.Pyramids.size() / 5; ++p)
+  {
+    vtkIdType pts[5];
+    std::copy(&result.Pyramids[5 * p], &result.Pyramids[5 * p] + 5, pts);
+    addCell(VTK_PYRAMID, 5, pts, -1, 2, result.PyramidLayer[p], result.PyramidSide[p]);
   }
 
   const double secondsOutput = lap();
@@ -693,13 +783,17 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     }
     for (std::size_t q = 0; q < newCell.size(); ++q)
     {
-      const std::int64_t* v = &result.Mesh.Tetrahedra[4 * newCell[q]];
+      vtkIdType npts;
+      const vtkIdType* pts;
+      output->GetCellPoints(static_cast<vtkIdType>(newCell[q]), npts, pts);
       double* centre = &where[3 * (newPoint.size() + q)];
-      for (int d = 0; d < 3; ++d)
+      std::fill(centre, centre + 3, 0.0);
+      for (vtkIdType j = 0; j < npts; ++j)
       {
-        centre[d] = 0.25 *
-          (result.Mesh.Points[3 * v[0] + d] + result.Mesh.Points[3 * v[1] + d] +
-            result.Mesh.Points[3 * v[2] + d] + result.Mesh.Points[3 * v[3] + d]);
+        for (int d = 0; d < 3; ++d)
+        {
+          centre[d] += result.Mesh.Points[3 * pts[j] + d] / static_cast<double>(npts);
+        }
       }
     }
     std::vector<vtkIdType> found(nQueries, -1);
@@ -774,12 +868,32 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   }
   const double secondsInterpolation = lap();
   output->GetCellData()->AddArray(region);
+  output->GetCellData()->AddArray(layer);
+  output->GetCellData()->AddArray(side);
   const vtkEmbeddedRemeshQuality quality = vtkEmbeddedRemeshAddQualityArrays(output, region);
   const double secondsQuality = lap();
 
   // ---- Field data and the embedded surface.
   const ar::TetMeshStatistics before = ar::ComputeStatistics(tets);
-  const ar::TetMeshStatistics after = ar::ComputeStatistics(result.Mesh);
+  double volumeAfter = ar::ComputeStatistics(result.Mesh).TotalVolume;
+  for (std::size_t p = 0; p < result.Prisms.size() / 6; ++p)
+  {
+    double x[18];
+    for (int k = 0; k < 6; ++k)
+    {
+      std::copy(&result.Mesh.Points[3 * result.Prisms[6 * p + k]], &result.Mesh.Points[3 * result.Prisms[6 * p + k]] + 3, x + 3 * k);
+    }
+    volumeAfter += ar::CellVolume(ar::CellShape::Wedge, x);
+  }
+  for (std::size_t p = 0; p < result.Pyramids.size() / 5; ++p)
+  {
+    double x[15];
+    for (int k = 0; k < 5; ++k)
+    {
+      std::copy(&result.Mesh.Points[3 * result.Pyramids[5 * p + k]], &result.Mesh.Points[3 * result.Pyramids[5 * p + k]] + 3, x + 3 * k);
+    }
+    volumeAfter += ar::CellVolume(ar::CellShape::Pyramid, x);
+  }
   auto field = [&](const char* name, double value) {
     output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
   };
@@ -798,6 +912,18 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("SurfaceTriangles", static_cast<double>(result.Surface.size() / 3));
   field("SurfaceTrianglesAtLockedCells", static_cast<double>(result.SurfaceTrianglesAtLockedCells));
   field("SurfaceEdgeLength", edge);
+  field("LayerCells", static_cast<double>(layerCount));
+  field("Prisms", static_cast<double>(result.Prisms.size() / 6));
+  field("Pyramids", static_cast<double>(result.Pyramids.size() / 5));
+  field("LayerClosureTetrahedra", static_cast<double>(closureCount));
+  field("LimitedColumns", static_cast<double>(result.LimitedColumns));
+  field("LayerStackHeight", result.LayerStackHeight);
+  {
+    std::vector<double> z;
+    std::string unused;
+    field("FirstLayerThicknessUsed",
+      options.Layers.NumberOfLayers > 0 && ar::PrismLayerDistances(options.Layers, z, unused) ? z[1] : 0.0);
+  }
   vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("SecondsInput", secondsInput);
   field("SecondsSurfaceMeshing", secondsSurface);
@@ -811,7 +937,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("SecondsInterpolation", secondsInterpolation);
   field("SecondsQuality", secondsQuality);
   field("RelativeVolumeChange",
-    before.TotalVolume > 0.0 ? (after.TotalVolume - before.TotalVolume) / before.TotalVolume : 0.0);
+    before.TotalVolume > 0.0 ? (volumeAfter - before.TotalVolume) / before.TotalVolume : 0.0);
   vtkNew<vtkCellArray> faces;
   for (std::size_t f = 0; f < result.Surface.size(); f += 3)
   {
@@ -872,6 +998,12 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     output->ShallowCopy(input);
     return 1;
   };
+  if (this->LayerType != TETRAHEDRA)
+  {
+    problem = "EmbeddedRemesh: LayerType Prisms runs on one rank only (under MPI the cavity is "
+              "refilled with tetrahedra); use Tetrahedra, or run on one rank.";
+    return passThrough();
+  }
   // ---- This rank's tetrahedra, owned and ghost (the ghosts complete l_v).
   const vtkIdType nPoints = input->GetNumberOfPoints();
   vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
@@ -1556,5 +1688,10 @@ void vtkEmbeddedRemesh::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinDihedralAngle: " << this->MinDihedralAngle << "\n";
   os << indent << "TwoDimensional: " << this->TwoDimensional << "\n";
   os << indent << "MinTriangleAngle: " << this->MinTriangleAngle << "\n";
+  os << indent << "LayerType: " << this->LayerType << "\n";
+  os << indent << "NumberOfLayers: " << this->NumberOfLayers << "\n";
+  os << indent << "FirstLayerThickness: " << this->FirstLayerThickness << "\n";
+  os << indent << "GrowthRatio: " << this->GrowthRatio << "\n";
+  os << indent << "TotalThickness: " << this->TotalThickness << "\n";
   os << indent << "InterpolateFields: " << this->InterpolateFields << "\n";
 }

@@ -139,6 +139,12 @@ public:
     FULL_DOMAIN = 1
   };
 
+  enum LayerTypes
+  {
+    TETRAHEDRA = 0, ///< the cavity is refilled with tetrahedra only
+    PRISMS = 1      ///< prism layers on both sides of S, tetrahedra around them
+  };
+
   enum TwoDimensionalModes
   {
     TWO_DIMENSIONAL_AUTO = 0, ///< a one-cell-deep mesh is remeshed as 2-D
@@ -170,6 +176,21 @@ public:
   /// 2-D mode: the angle (degrees) the new triangles are refined to reach.
   vtkSetClampMacro(MinTriangleAngle, double, 0.0, 30.0);
   vtkGetMacro(MinTriangleAngle, double);
+  /// Tetrahedra (default) or Prisms: NumberOfLayers prism layers on each
+  /// side of S (ar::BuildPrismLayers), layer k FirstLayerThickness *
+  /// GrowthRatio^k thick, or TotalThickness per side when that is > 0;
+  /// FirstLayerThickness 0 means a tenth of the surface edge length. Not
+  /// clamped: out-of-range values are refused with an error naming them.
+  vtkSetMacro(LayerType, int);
+  vtkGetMacro(LayerType, int);
+  vtkSetMacro(NumberOfLayers, int);
+  vtkGetMacro(NumberOfLayers, int);
+  vtkSetMacro(FirstLayerThickness, double);
+  vtkGetMacro(FirstLayerThickness, double);
+  vtkSetMacro(GrowthRatio, double);
+  vtkGetMacro(GrowthRatio, double);
+  vtkSetMacro(TotalThickness, double);
+  vtkGetMacro(TotalThickness, double);
   vtkSetMacro(InterpolateFields, bool);
   vtkGetMacro(InterpolateFields, bool);
   vtkBooleanMacro(InterpolateFields, bool);
@@ -202,6 +223,11 @@ private:
   void operator=(const vtkEmbeddedRemesh&) = delete;
 
   int Mode = LOCAL_CAVITY;
+  int LayerType = TETRAHEDRA;
+  int NumberOfLayers = 5;
+  double FirstLayerThickness = 0.0;
+  double GrowthRatio = 1.2;
+  double TotalThickness = 0.0;
   double SurfaceEdgeLength = 0.0;
   double RemovalFactor = 3.0;
   bool VisibilityTest = true;

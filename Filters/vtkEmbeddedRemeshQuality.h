@@ -17,7 +17,9 @@ struct vtkEmbeddedRemeshQuality
   double NewMinDihedral = 180.0;
   double NewDihedralSum = 0.0;
   double NewMaxAspectRatio = 0.0;
-  double LayerMaxAspectRatio = 0.0; ///< kept non-tetrahedral 3-D cells (thin by design)
+  double LayerMaxAspectRatio = 0.0; ///< layer cells: new prism layers (Region 2) and kept non-tetrahedral 3-D cells (thin by design)
+  double LayerMinDihedral = 180.0;
+  double LayerCells = 0.0;
   double NonPositiveJacobian = 0.0; ///< 3-D cells with a corner Jacobian <= 0
 };
 
@@ -28,7 +30,8 @@ struct vtkEmbeddedRemeshQuality
 vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region);
 
 /// The quality part of the field data: MinDihedralAngleNew,
-/// MeanDihedralAngleNew, MaxAspectRatioNew, MaxAspectRatioLayerCells,
+/// MeanDihedralAngleNew, MaxAspectRatioNew (Region 1), MaxAspectRatioLayerCells,
+/// MinDihedralAngleLayerCells,
 /// NonPositiveJacobianCells.
 void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmbeddedRemeshQuality& sums);
 

@@ -513,6 +513,11 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     lockedTree.accelerate_distance_queries();
   }
 
+  // With prism layers the stack's closure reaches about half an edge beyond
+  // S's border (the pyramids' apices): S is trimmed one edge further back,
+  // so that a full edge of room stays between the closure and the kept
+  // faces (with half an edge TetGen had to build slivers against both).
+  const double margin = options.BoundaryMargin + (layers ? 1.0 : 0.0);
   // ---- Trim S: inside V and at least BoundaryMargin * l_s from its
   // boundary; outside the locked cells and at least BoundaryMargin * l_s
   // from them, and no triangle crossing them.
@@ -524,7 +529,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     if (!lockedFaces.empty())
     {
       clearOfLocked[i] = !Inside(lockedTree, p) &&
-        std::sqrt(CGAL::to_double(lockedTree.squared_distance(p))) >= options.BoundaryMargin * ls[i];
+        std::sqrt(CGAL::to_double(lockedTree.squared_distance(p))) >= margin * ls[i];
     }
     if (!Inside(tree, p))
     {
@@ -532,7 +537,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     }
     ++inside;
     const double d = std::sqrt(CGAL::to_double(tree.squared_distance(p)));
-    usable[i] = d >= options.BoundaryMargin * ls[i];
+    usable[i] = d >= margin * ls[i];
   }
   if (inside == 0)
   {

@@ -53,7 +53,7 @@ struct CavityOptions
 {
   double RemovalFactor = 3.0;   ///< radius of removal in max(l_si, l_vj)
   bool VisibilityTest = true;   ///< a boundary face between S_i and V_j keeps V_j
-  double BoundaryMargin = 1.0;  ///< S trimmed this many l_si away from V's boundary
+  double BoundaryMargin = 1.0;  ///< S trimmed this many l_si away from V's boundary (one more with prism layers)
   TetGenOptions Quality{ 1.414, 12.0, 0.0, true, 0, 150.0 }; // -o/150: TetGen's optimization removes slivers
   /// Remove every node: the whole domain is remeshed with S embedded
   /// (FullDomain mode); the domain boundary is still kept exactly.

@@ -190,6 +190,31 @@ double CellAspectRatio(CellShape shape, const double* points)
   return shortest > 0.0 ? longest / shortest : std::numeric_limits<double>::infinity();
 }
 
+double CellVolume(CellShape shape, const double* points)
+{
+  const Topology& t = Of(shape);
+  double six = 0.0; // six times the volume: sum of det(a, b, c) over outward triangles
+  const Eigen::Vector3d o = X(points, 0); // relative to a node, for round-off far from the origin
+  auto add = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    six += (a - o).dot((b - o).cross(c - o));
+  };
+  for (const auto& face : t.Faces)
+  {
+    if (face[3] < 0)
+    {
+      add(X(points, face[0]), X(points, face[1]), X(points, face[2]));
+      continue;
+    }
+    const Eigen::Vector3d m =
+      0.25 * (X(points, face[0]) + X(points, face[1]) + X(points, face[2]) + X(points, face[3]));
+    for (int k = 0; k < 4; ++k)
+    {
+      add(X(points, face[k]), X(points, face[(k + 1) % 4]), m);
+    }
+  }
+  return six / 6.0;
+}
+
 CellQuality ComputeCellQuality(CellShape shape, const double* points)
 {
   CellQuality q;

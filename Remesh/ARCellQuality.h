@@ -81,6 +81,13 @@ void CellCornerJacobians(CellShape shape, const double* points, double* jacobian
 /// Longest edge / shortest edge.
 double CellAspectRatio(CellShape shape, const double* points);
 
+/// The volume enclosed by the cell's faces (divergence theorem), a
+/// quadrilateral face taken as the four triangles of its centroid. A face
+/// shared by two cells is split the same way from both sides, so the
+/// volumes of a conforming mesh sum to the volume of its boundary, even where
+/// quads are not planar.
+double CellVolume(CellShape shape, const double* points);
+
 /// All of the above, summarised.
 CellQuality ComputeCellQuality(CellShape shape, const double* points);
 }

@@ -232,3 +232,28 @@ TEST(CellQuality, SquarePyramid)
     EXPECT_LT(v, 0.0);
   }
 }
+
+TEST(CellQuality, Volumes)
+{
+  EXPECT_NEAR(ar::CellVolume(ar::CellShape::Hexahedron, Cube(2.0, -3.0).data()), 8.0, 1e-12);
+  EXPECT_NEAR(ar::CellVolume(ar::CellShape::Wedge, RightPrism(0.7).data()), 0.7 * std::sqrt(3.0) / 4.0, 1e-15);
+  EXPECT_NEAR(ar::CellVolume(ar::CellShape::Pyramid, Pyramid(3.0).data()), 4.0 * 3.0 / 3.0, 1e-14);
+  const std::vector<double> tet = { 1e6, 0, 0, 1e6 + 1, 0, 0, 1e6, 1, 0, 1e6, 0, 1 };
+  EXPECT_NEAR(ar::CellVolume(ar::CellShape::Tetrahedron, tet.data()), 1.0 / 6.0, 1e-12);
+  // Two hexahedra stacked in the unit box, sharing a warped quad (its four
+  // corners at heights 0.3, 0.6, 0.3, 0.6: not planar): the two volumes
+  // depend on how the shared face is read, their sum does not.
+  const double z[4] = { 0.3, 0.6, 0.3, 0.6 };
+  std::vector<double> lower = Cube(1.0, 0.0), upper = Cube(1.0, 0.0);
+  for (int k = 0; k < 4; ++k)
+  {
+    lower[3 * (k + 4) + 2] = z[k];
+    upper[3 * k + 2] = z[k];
+  }
+  const double a = ar::CellVolume(ar::CellShape::Hexahedron, lower.data());
+  const double b = ar::CellVolume(ar::CellShape::Hexahedron, upper.data());
+  EXPECT_GT(a, 0.0);
+  EXPECT_GT(b, 0.0);
+  EXPECT_NEAR(a + b, 1.0, 1e-15);
+  EXPECT_NEAR(a, 0.45, 1e-15); // the warped face split at its centroid (0.5, 0.5, 0.45)
+}

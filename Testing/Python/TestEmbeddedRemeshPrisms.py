@@ -4,54 +4,64 @@ at S's open border by pyramids and thin closure tetrahedra, the rest of the
 cavity refilled by TetGen). Every geometric check is the test's own (numpy,
 Testing/Python/artest.py), independent of the filter's quality arrays.
 
-a. Planar S, the analytic oblique shock with QuadricFit's plane:
-   - validity: every corner Jacobian of every cell of every type positive;
-     conforming (every face, triangle or quad, keyed by its coordinates, in
-     at most two cells); the boundary the input's face for face, watertight;
-     the Region 0 cells the input's cells bit for bit; the total volume (the
-     divergence theorem over every cell's faces, quads split at their
-     centroid) conserved to 1e-9; p at the kept points equal to the input's;
-   - the stack: every prism right (its three lateral edges within 5 degrees
-     of the fitted plane's normal); 2 x NumberOfLayers prisms on every
-     embedded triangle, one per side and layer, and the embedded triangles
-     are exactly the faces between two layer-0 prisms of opposite sides;
-     LayerSide +1 on the side the embedded triangles' normal points to;
-     layer k's thickness (measured along the normal) FirstLayerThickness x
-     GrowthRatio^k within 1% and its bottom at the sum of the layers below,
-     in every column of full height, and every column farther than
-     (BoundaryMargin + 1) SurfaceEdgeLength + LayerStackHeight /
-     MaxHeightGradient from the domain boundary is of full height (the
-     excluded ones are lowered by the domain boundary near S's trimmed
-     border, and the grading carries that inward at most that far);
-   - quality: no new (Region 1) tetrahedron under 10 degrees, apart from
-     those sharing a face with a kept cell of a worse angle;
-   - the field data: the counts of cells of each kind, LimitedColumns (the
-     columns lower than the request, counted from the geometry),
-     LayerStackHeight, FirstLayerThicknessUsed, MaxAspectRatioLayerCells,
-     MinDihedralAngleLayerCells, MinDihedralAngleNew, MeanDihedralAngleNew.
-b. Curved S, the OpenFOAM cone with QuadricFit's cone: the same validity; no
-   folded layer: every lateral edge of every prism points to the side of its
-   S triangle that its LayerSide says, and every prism's top triangle is
-   within 60 degrees of its S triangle's normal (a cheap proxy for caps that
-   do not overlap; that no two cells overlap at all follows from the
-   validity checks: positive corners, conforming faces, the input's boundary
-   and the conserved volume); the stack covers S: every point of the fitted
-   cone farther than (BoundaryMargin + 1) SurfaceEdgeLength from the domain
-   boundary is on an embedded triangle (within a small fraction of the edge
-   length: the two triangulations of the cone differ by their chords), and
-   every embedded triangle carries 2 x NumberOfLayers prisms.
-c. Bad input: NumberOfLayers <= 0, a negative FirstLayerThickness or
-   TotalThickness, GrowthRatio <= 0 (set through paraview.simple; the XML
-   range domains do not clamp values set from Python): an error naming the
-   property, the input passed through unchanged. Two parallel copies of the
-   plane closer than the two stacks: the columns between them are lowered
-   (LimitedColumns > 0, each stack at most GapFraction of the gap), and the
-   mesh is still valid.
+Every case (validate):
+- validity: every corner Jacobian of every cell of every type positive;
+  conforming (every face, triangle or quad, keyed by its coordinates, in
+  two cells unless it is on the boundary) and the boundary the input's face
+  for face, watertight; the Region 0 cells the input's cells bit for bit; the
+  total volume (the divergence theorem over every cell's faces, quads split
+  at their centroid) conserved to 1e-9; p at the kept points equal to the
+  input's;
+- the stack: the embedded triangles (output 1) are exactly the faces between
+  two layer-0 prisms of opposite sides; 2 x NumberOfLayers prisms on each,
+  one per side and layer (each prism's column followed down its lateral
+  edges to S); each column (S point, side) at most LayerStackHeight high,
+  and the ones lower than that are LimitedColumns;
+- the cell arrays and field data: Region, Layer, LayerSide; LayerCells,
+  Prisms, Pyramids, LayerClosureTetrahedra, KeptCells, NewCells (Region 1
+  and 2) match the cells; MinDihedralAngleNew / MeanDihedralAngleNew (Region
+  1 only), MinDihedralAngleLayerCells, MaxAspectRatioLayerCells equal the
+  test's own dihedral angles and edge ratios;
+- quality: no new (Region 1) tetrahedron under 10 degrees, apart from those
+  sharing a face with a kept cell of a worse angle (not required, only
+  reported, for two surfaces closer than their stacks).
+
+a. Planar S, the analytic oblique shock with QuadricFit's plane: S on the
+   plane; every prism right (its three lateral edges within 5 degrees of the
+   plane's normal); LayerSide +1 on the side the embedded triangles' normal
+   points to; every column farther than (BoundaryMargin + 1) SurfaceEdgeLength
+   + LayerStackHeight / MaxHeightGradient from the domain boundary of full
+   height (S's border lies about (BoundaryMargin + 1) edges from the
+   boundary, where the boundary may lower the columns, and the grading
+   carries that inward at most that far); in every prism of a full-height
+   column, layer k FirstLayerThickness x GrowthRatio^k thick (along the
+   normal) within 1% and its bottom at the sum of the layers below.
+b. Curved S, the OpenFOAM cone with QuadricFit's cone (FirstLayerThickness
+   automatic: 0.1 x SurfaceEdgeLength): no folded layer: every lateral edge
+   of every prism points to the side of its S triangle that its LayerSide
+   says, and every prism's top triangle is within 60 degrees of its S
+   triangle's normal (a cheap proxy for caps that do not overlap; that no
+   two cells overlap at all follows from the validity checks: positive
+   corners, conforming faces, the input's boundary and the conserved
+   volume); the stack covers S: every point of the fitted cone farther than
+   (BoundaryMargin + 2) longest S edges from the domain boundary is on an
+   embedded triangle (within 5% of an edge: the two triangulations of the
+   cone differ by their chords). With layers EmbeddedRemesh trims S one edge
+   further back than without ((BoundaryMargin + 1) edges), and the border is
+   one triangle jagged: hence the + 2.
+c. Bad input: NumberOfLayers 0 or negative, a negative FirstLayerThickness
+   or TotalThickness, GrowthRatio 0 or negative (set through
+   paraview.simple; the XML range domains do not clamp values set from
+   Python): an error naming the property, the input passed through
+   unchanged. Two parallel copies of the plane 0.15 apart, with stacks of
+   0.107 per side: the columns facing the other piece are lowered to
+   GapFraction (0.35) of the gap (LimitedColumns > 0), and the mesh is valid.
 """
 import numpy as np
 from paraview.simple import *
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkFiltersCore import vtkFeatureEdges
 
 import artest
 from artest import (FACES, VTK_PYRAMID, VTK_TETRA, VTK_WEDGE, TYPE_NAMES, by_type, cell_volumes, cells_of, check,
@@ -65,6 +75,7 @@ LAYERS = 4            # NumberOfLayers (per side)
 FIRST = 0.01          # FirstLayerThickness
 GROWTH = 1.2          # GrowthRatio
 MARGIN = 1.0          # EmbeddedRemesh's BoundaryMargin (default)
+EDGE = 0.05           # SurfaceEdgeLength on the planes (the mesh's edges are about 0.1)
 GAP_FRACTION = 0.35   # ar::PrismLayerOptions defaults (not exposed by the filter)
 MAX_HEIGHT_GRADIENT = 0.5
 
@@ -105,9 +116,10 @@ def run(mesh, surfaces, **props):
     return er, artest.fetch(er), artest.fetch(er, 1)
 
 
-def validate(label, mesh, er, out, emb, nlayers):
-    """The checks every prism-layer result must pass; returns what the
-    case-specific checks need."""
+def validate(label, mesh, er, out, emb, nlayers, quality=True):
+    """The checks every prism-layer result must pass (with `quality`, also
+    the new tetrahedra's 10 degrees); returns what the case-specific checks
+    need."""
     f = lambda name: artest.field(out, name)[0]
     src = artest.fetch(mesh)
     P0, P1 = np.asarray(src.Points, dtype=np.float64), np.asarray(out.Points, dtype=np.float64)
@@ -169,10 +181,10 @@ def validate(label, mesh, er, out, emb, nlayers):
     layer_types = types1[stack]
     check(stack.sum() == f("LayerCells") and counts[VTK_WEDGE] == f("Prisms") and counts[VTK_PYRAMID] == f("Pyramids")
           and int((layer_types == VTK_TETRA).sum()) == f("LayerClosureTetrahedra")
-          and int((region == 1).sum()) == f("NewCells") and (layer_types != VTK_TETRA).sum() + f("LayerClosureTetrahedra")
+          and int((region != 0).sum()) == f("NewCells") and (layer_types != VTK_TETRA).sum() + f("LayerClosureTetrahedra")
           == stack.sum() and (types1[region != 2] == VTK_TETRA).all(),
-          "%s: field data LayerCells %d = Prisms %d + Pyramids %d + LayerClosureTetrahedra %d, NewCells %d, "
-          "KeptCells %d match the cells; every prism and pyramid is a layer cell"
+          "%s: field data LayerCells %d = Prisms %d + Pyramids %d + LayerClosureTetrahedra %d, NewCells %d (Region 1 "
+          "and 2), KeptCells %d match the cells; every prism and pyramid is a layer cell"
           % (label, f("LayerCells"), f("Prisms"), f("Pyramids"), f("LayerClosureTetrahedra"), f("NewCells"),
              f("KeptCells")))
     check(((layer[stack] >= 0) & (layer[stack] < nlayers)).all() and np.isin(side[stack], (-1, 1)).all()
@@ -205,9 +217,9 @@ def validate(label, mesh, er, out, emb, nlayers):
             excused += 1
         else:
             bad.append(c)
-    check(not bad, "%s: every new tetrahedron's min dihedral >= 10 deg (min %.2f, mean %.2f; %d excused next to a "
+    check(not bad or not quality, "%s: %severy new tetrahedron's min dihedral >= 10 deg (min %.2f, mean %.2f; %d excused next to a "
           "worse kept cell; %d not: min %.2f, next to %s)"
-          % (label, mind[new].min(), mind[new].mean(), excused, len(bad), mind[bad].min() if bad else 0,
+          % (label, "" if quality else "(not required) ", mind[new].min(), mind[new].mean(), excused, len(bad), mind[bad].min() if bad else 0,
              sorted(set(int(region[d]) for c in bad for fc in FACES[VTK_TETRA]
                         for d in owners1[coord_key(P1, cells1[c][list(fc)])] if d != c))))
 
@@ -234,8 +246,21 @@ def validate(label, mesh, er, out, emb, nlayers):
     check(ptri.min() >= 0 and len(slots) == len(pidx) == 2 * nlayers * len(S),
           "%s: every prism's column stands on an embedded triangle, which carries one prism per side and layer"
           % label)
+    # Columns (S point, side): straight (the layer points are foot + z_k x
+    # direction), so the height is the distance from the foot to the top.
+    top = layer[pidx] == nlayers - 1
+    height = {}
+    for w, sd in zip(W[top], side[pidx][top]):
+        for i in range(3):
+            height[(int(root[w[3 + i]]), int(sd))] = np.linalg.norm(P1[w[3 + i]] - P1[root[w[3 + i]]])
+    h = np.array(list(height.values()))
+    zN = f("LayerStackHeight")
+    limited = {c for c, v in height.items() if v < zN * (1 - 1e-9)}
+    check(len(height) == 2 * len(np.unique(S)) and h.max() <= zN * (1 + 1e-9) and len(limited) == f("LimitedColumns"),
+          "%s: %d columns (2 per S point), none above LayerStackHeight %.4f; %d lower than it (lowest %.4f) = "
+          "LimitedColumns %d" % (label, len(height), zN, len(limited), h.min(), f("LimitedColumns")))
     return dict(P=P1, types=types1, cells=cells1, region=region, layer=layer, side=side, pidx=pidx, W=W,
-                root=root, S=S, Snormal=Snormal, ptri=ptri, src=src, field=f)
+                root=root, S=S, Snormal=Snormal, ptri=ptri, src=src, field=f, limited=limited)
 
 
 # ================================================ a. planar S, oblique shock
@@ -246,7 +271,8 @@ plane = QuadricFit(Input=OutputPort(clusters, 1), Domain=oblique, Template="Plan
 fit = artest.fetch(plane)
 n = artest.field(fit, "Normal")
 o = artest.field(fit, "Origin")
-er, out, emb = run(oblique, [plane], NumberOfLayers=LAYERS, FirstLayerThickness=FIRST, GrowthRatio=GROWTH)
+er, out, emb = run(oblique, [plane], NumberOfLayers=LAYERS, FirstLayerThickness=FIRST, GrowthRatio=GROWTH,
+                   SurfaceEdgeLength=EDGE)
 check("Region" in out.CellData.keys() and "Layer" in out.CellData.keys() and not messages.GetOutput().strip(),
       "planar: EmbeddedRemesh (Prisms) ran without an error or warning %r" % messages.GetOutput()[-300:].strip())
 r = validate("planar", oblique, er, out, emb, LAYERS)
@@ -273,17 +299,8 @@ check(abs(plus.sum()) == len(plus) and (np.sign(centre) == side[pidx] * plus[0])
       "planar: the embedded triangles all face one way, and every prism lies on the side of the plane its "
       "LayerSide says (+1: where the triangles' normal points)")
 
-# Columns: heights along the normal; limited columns; thicknesses.
-top = layer[pidx] == LAYERS - 1
-height = {}
-for w, s in zip(W[top], side[pidx][top]):
-    for i in range(3):
-        height[(int(root[w[3 + i]]), int(s))] = abs((P[w[3 + i]] - P[root[w[3 + i]]]) @ n)
-h = np.array(list(height.values()))
-limited = {c for c, v in height.items() if v < z[-1] * (1 - 1e-9)}
-check(len(height) == 2 * len(Sp) and h.max() <= z[-1] * (1 + 1e-9) and len(limited) == f("LimitedColumns"),
-      "planar: %d columns (2 per S point), none above the request; %d lower than it = LimitedColumns %d"
-      % (len(height), len(limited), f("LimitedColumns")))
+# Full-height columns away from the border; thicknesses.
+limited = r["limited"]
 domain = locator_of(skin(r["src"].VTKObject))
 l_s = f("SurfaceEdgeLength")
 inner = (MARGIN + 1) * l_s + z[-1] / MAX_HEIGHT_GRADIENT
@@ -345,13 +362,19 @@ surface = locator_of(cemb.VTKObject)
 CP = np.asarray(cone_fit.Points, dtype=np.float64)
 CT = vtk_to_numpy(cone_fit.VTKObject.GetPolys().GetConnectivityArray()).reshape(-1, 3)
 samples = np.concatenate([CP[np.unique(CT)], CP[CT].mean(axis=1)])
-band = (MARGIN + 1) * l_s
+# With layers EmbeddedRemesh trims S (BoundaryMargin + 1) x its local longest
+# edge from the domain boundary (one edge more than without: room for the
+# closure's apices), and drops a triangle when one corner is nearer than
+# that: S's border lies at most one triangle inside that line.
+ES = r["S"]
+longest = max(np.linalg.norm(P[ES[:, k]] - P[ES[:, (k + 1) % 3]], axis=1).max() for k in range(3))
+band = (MARGIN + 2) * longest
 samples = [x for x in samples if distance(domain, x) > band]
 gap = max(distance(surface, x) for x in samples)
 check(len(samples) > 100 and gap < 0.05 * l_s,
       "cone: the embedded surface covers all %d sample points of the fitted cone farther than %.3f ((BoundaryMargin "
-      "+ 1) x SurfaceEdgeLength) from the boundary (largest gap %.1e = %.3f edge lengths)"
-      % (len(samples), band, gap, gap / l_s))
+      "+ 2) x the longest S edge %.4f) from the boundary (largest gap %.1e = %.3f edge lengths)"
+      % (len(samples), band, longest, gap, gap / l_s))
 
 # ================================================================ c. bad input
 def refused(mesh, surfaces, fragment, label, **props):
@@ -377,23 +400,43 @@ twin = Transform(Input=plane)
 twin.Transform.Translate = list(GAP * n)
 before = len(messages.GetOutput())
 ter, tout, temb = run(oblique, [plane, twin], NumberOfLayers=LAYERS, FirstLayerThickness=2 * FIRST,
-                      GrowthRatio=GROWTH)
+                      GrowthRatio=GROWTH, SurfaceEdgeLength=EDGE)
 check("Layer" in tout.CellData.keys(), "two planes %.2f apart: EmbeddedRemesh (Prisms) ran %r"
       % (GAP, messages.GetOutput()[before:][-300:]))
-r = validate("two planes", oblique, ter, tout, temb, LAYERS)
+r = validate("two planes", oblique, ter, tout, temb, LAYERS, quality=False)
 P, W, pidx, layer, side, root, f = r["P"], r["W"], r["pidx"], r["layer"], r["side"], r["root"], r["field"]
 zt = layer_bounds(2 * FIRST, GROWTH, LAYERS)
-# Tops of the stacks facing each other: between the planes, at most GapFraction of the gap from their plane.
+# The columns of the two pieces that face each other (their foot moved
+# across the gap lands on the other piece, not on its border: a ray that
+# grazes the border may miss it) take at most GapFraction of it.
+ES = r["S"]
+lower = np.abs((P[ES].mean(axis=1) - o) @ n) < 0.5 * GAP
+pieces, borders = [], []
+for sel in (lower, ~lower):
+    piece = skin(artest.grid_of(P, [(5, t) for t in ES[sel]]))
+    edges = vtkFeatureEdges()
+    edges.SetInputData(piece)
+    edges.BoundaryEdgesOn()
+    edges.FeatureEdgesOff()
+    edges.NonManifoldEdgesOff()
+    edges.ManifoldEdgesOff()
+    edges.Update()
+    pieces.append(locator_of(piece))
+    borders.append(locator_of(edges.GetOutput()))
 top = layer[pidx] == LAYERS - 1
 tops = P[W[top][:, 3:]].reshape(-1, 3)
 feet = P[root[W[top][:, 3:]]].reshape(-1, 3)
-d_top = (tops - o) @ n
-d_feet = (feet - o) @ n
-facing = ((d_feet < 0.5 * GAP) & (d_top > d_feet)) | ((d_feet > 0.5 * GAP) & (d_top < d_feet))
+d_top, d_feet = (tops - o) @ n, (feet - o) @ n
+towards = np.where(d_feet < 0.5 * GAP, 1.0, -1.0)
+facing = np.array([(d_top[i] - d_feet[i]) * towards[i] > 0
+                   and distance(pieces[1 if towards[i] > 0 else 0], feet[i] + towards[i] * GAP * n) < 1e-9
+                   and distance(borders[1 if towards[i] > 0 else 0], feet[i] + towards[i] * GAP * n) > 1e-6
+                   for i in range(len(feet))])
 reach = np.abs(d_top - d_feet)[facing]
+columns = len(np.unique(W[top][:, 3:].ravel()[facing]))
 check(f("LimitedColumns") > 0 and facing.sum() > 0 and reach.max() <= GAP_FRACTION * GAP * (1 + 1e-9) < zt[-1],
-      "two planes %.2f apart, stacks of %.3f: LimitedColumns %d; the stacks between them reach at most %.4f "
-      "(GapFraction x gap = %.4f) from their plane" % (GAP, zt[-1], f("LimitedColumns"), reach.max(),
-                                                       GAP_FRACTION * GAP))
+      "two planes %.2f apart, stacks of %.3f: LimitedColumns %d; the %d columns facing the other plane reach at "
+      "most %.4f (GapFraction x gap = %.4f) from their plane" % (GAP, zt[-1], f("LimitedColumns"), columns,
+                                                                 reach.max(), GAP_FRACTION * GAP))
 
 artest.finish()

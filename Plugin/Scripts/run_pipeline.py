@@ -14,7 +14,11 @@ feature clusters, their medial points and the fitted, trimmed shock surfaces:
   tetrahedral mesh: the same, compared with the exact shock plane.
 - Data/cone20Ma2p5.vtu (when present), OpenFOAM on a Gmsh mesh around a 20
   degree cone at Mach 2.5: the conical shock fitted as a cone, compared with
-  Taylor-Maccoll.
+  Taylor-Maccoll; the mesh adapted to the fitted cone by EmbeddedRemesh
+  (cone20Ma2p5_adapted.vtu/.msh), and again with prism layers on both sides
+  of it (LayerType Prisms: cone20Ma2p5_adapted_prisms.vtu/.msh, cuts through
+  the layers cone20Ma2p5_cut_prisms*.png, the dihedral angles of every kind
+  of cell cone20Ma2p5_dihedral_histogram_prisms.png).
 
 Writes <output>/*_sensors.vtu (the meshes with the sensor and cluster
 arrays, for ParaView), *_medial.vtp (the medial points), PNG pictures, and
@@ -85,6 +89,9 @@ def picture(name, shows, camera, title):
     td.Color = [0, 0, 0]
     td.FontSize = 14
     td.WindowLocation = "Upper Center"
+    td.ShowBorder = "Always"  # a white box behind the title, over a zoomed-in mesh
+    td.BackgroundColor = [1, 1, 1, 0.85]
+    td.BorderColor = [1, 1, 1]
     camera(view)
     path = os.path.join(args.output, name)
     SaveScreenshot(path, view, ImageResolution=[1400, 900])
@@ -403,11 +410,12 @@ if os.path.exists(cone_path):
                     % (field(am, "NewCells"), field(am, "MinDihedralAngleNew"), field(am, "MeanDihedralAngleNew"),
                        field(am, "RelativeVolumeChange"))))
 
-    def dihedrals(d):
+    def dihedrals(d, mask=None):
         """Every dihedral angle of every 3-D cell (tetrahedra, pyramids,
         prisms, hexahedra: at each edge, 180 minus the angle between the
         outward normals of its two faces, a quad's normal the cross product of
-        its diagonals, as ar::CellDihedralAngles does)."""
+        its diagonals, as ar::CellDihedralAngles does); with `mask` (a bool
+        per cell), of those cells only."""
         from vtkmodules.util.numpy_support import vtk_to_numpy
         from vtkmodules.vtkCommonDataModel import VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_WEDGE
         faces = {
@@ -423,7 +431,7 @@ if os.path.exists(cone_path):
         conn = vtk_to_numpy(vtk.GetCells().GetConnectivityArray())
         out = []
         for t, fs in faces.items():
-            idx = np.nonzero(types == t)[0]
+            idx = np.nonzero((types == t) & (True if mask is None else mask))[0]
             if len(idx) == 0:
                 continue
             C = conn[offsets[idx][:, None] + np.arange(max(max(f) for f in fs) + 1)]  # the cells' nodes
@@ -439,7 +447,7 @@ if os.path.exists(cone_path):
                     if len(set(fs[i]) & set(fs[j])) == 2:  # the two faces share an edge
                         c = -np.einsum("ij,ij->i", normals[i], normals[j])
                         out.append(np.degrees(np.arccos(np.clip(c, -1, 1))))
-        return np.concatenate(out)
+        return np.concatenate(out) if out else np.zeros(0)
 
     import matplotlib
     matplotlib.use("Agg")
@@ -473,6 +481,117 @@ if os.path.exists(cone_path):
     picture("cone20Ma2p5_cut_adapted.png",
             [(cut(adapted), colored("p", "POINTS", 0.8, 2.4, "Viridis (matplotlib)", "p")), (surface_c, translucent_edges)],
             cone_view, "Adapted mesh (EmbeddedRemesh, LocalCavity) cut at z = 0.25: the shock cone is a layer of faces")
+
+    # ---- The prism variant (paper sections 4.1, 4.2): LayerType Prisms on
+    # the same fitted cone. Prism layers on both sides of the embedded shock
+    # cone (the first layer 0.1 x the surface edge length, growth 1.2), the
+    # quads of the stack's open side at S's border closed by pyramids and
+    # thin closure tetrahedra, the rest of the cavity refilled by TetGen.
+    # (4 layers: with the default 5, whose stack is 0.74 surface edges high
+    # here, TetGen leaves two 2 degree slivers against the border closure.)
+    layers = 4
+    prisms = EmbeddedRemesh(Input=cone, Surfaces=[surface_c], Mode="LocalCavity", LayerType="Prisms",
+                            NumberOfLayers=layers, GrowthRatio=1.2)
+    pm = local(prisms)
+    save(prisms, "cone20Ma2p5_adapted_prisms.vtu")
+    SaveData(os.path.join(args.output, "cone20Ma2p5_adapted_prisms.msh"), proxy=prisms)
+    p_region = np.asarray(pm.CellData["Region"])
+    summary.append(("cone20Ma2p5 EmbeddedRemesh with prism layers (LayerType Prisms, %d layers per side, first %.4f, "
+                    "growth 1.2, stack %.4f per side): %d -> %d cells"
+                    % (layers, field(pm, "FirstLayerThicknessUsed"), field(pm, "LayerStackHeight"),
+                       src.GetNumberOfCells(), pm.GetNumberOfCells()),
+                    int(field(pm, "SurfaceTriangles")),
+                    "%d prisms, %d pyramids, %d closure tetrahedra, %d new tetrahedra (min / mean dihedral %.1f / %.1f "
+                    "deg); layer cells: max aspect ratio %.1f, min dihedral %.1f deg; %d limited columns; volume change "
+                    "%.1e" % (field(pm, "Prisms"), field(pm, "Pyramids"), field(pm, "LayerClosureTetrahedra"),
+                              int((p_region == 1).sum()), field(pm, "MinDihedralAngleNew"),
+                              field(pm, "MeanDihedralAngleNew"), field(pm, "MaxAspectRatioLayerCells"),
+                              field(pm, "MinDihedralAngleLayerCells"), field(pm, "LimitedColumns"),
+                              field(pm, "RelativeVolumeChange"))))
+
+    # A cut across the axis (x = 0.5, crinkle: whole cells) coloured by kind
+    # of cell: the shock cone is a half ring of prism layers.
+    p_cut = Slice(Input=prisms, Crinkleslice=1)
+    p_cut.SliceType.Origin = [0.5, 0.0, 0.0]
+    p_cut.SliceType.Normal = [1, 0, 0]
+    kinds = PythonCalculator(Input=p_cut, Expression="where(Region == 2, inputs[0].CellTypes, Region)",
+                             ArrayAssociation="Cell Data", ArrayName="CellKind")
+
+    def by_kind(display, view):
+        display.Representation = "Surface With Edges"
+        display.EdgeColor = [0.1, 0.1, 0.2]
+        display.Ambient = 0.4   # (lighter shading of the faces seen at a grazing angle)
+        display.Diffuse = 0.6
+        ColorBy(display, ("CELLS", "CellKind"))
+        lut = GetColorTransferFunction("CellKind")
+        lut.InterpretValuesAsCategories = 1
+        lut.Annotations = ["0", "kept tetrahedra", "1", "new tetrahedra (TetGen)", "13", "prisms", "14", "pyramids",
+                           "10", "closure tetrahedra"]
+        lut.IndexedColors = [0.8, 0.8, 0.8, 0.62, 0.78, 1.0, 1.0, 0.6, 0.2, 0.3, 0.75, 0.3, 0.85, 0.2, 0.25]
+        display.SetScalarBarVisibility(view, True)
+        bar = GetScalarBar(lut, view)
+        bar.Title = "cell"
+        bar.TitleColor = [0, 0, 0]
+        bar.LabelColor = [0, 0, 0]
+
+    def axial_view(y, z, scale):
+        def camera(view):
+            view.CameraPosition = [3.5, y, z]
+            view.CameraFocalPoint = [0.5, y, z]
+            view.CameraViewUp = [0, 0, 1]
+            view.CameraParallelProjection = 1
+            if scale is None:
+                view.ResetCamera()
+            else:
+                view.CameraParallelScale = scale
+        return camera
+
+    picture("cone20Ma2p5_cut_prisms.png", [(kinds, by_kind)], axial_view(0.0, 0.35, None),
+            "Cone adapted with prism layers (%d per side), cut across the axis at x = 0.5 (crinkle), seen from "
+            "downstream: %d prisms, %d pyramids, %d closure tetrahedra" % (layers, field(pm, "Prisms"),
+                                                                           field(pm, "Pyramids"),
+                                                                           field(pm, "LayerClosureTetrahedra")))
+    radius = 0.5 * np.tan(np.radians(got))  # the shock cone's radius at x = 0.5
+    picture("cone20Ma2p5_cut_prisms_closeup.png", [(kinds, by_kind)], axial_view(0.0, radius, 0.06),
+            "Close-up: %d prism layers on each side of the shock cone, first layer %.4f, growth 1.2 (the cells are "
+            "whole: the dark band is the layer-0 prisms' faces on S seen at a grazing angle)"
+            % (layers, field(pm, "FirstLayerThicknessUsed")))
+    picture("cone20Ma2p5_cut_prisms_border.png", [(kinds, by_kind)],
+            axial_view(-0.29, 0.15, 0.08),
+            "Close-up at the shock surface's trimmed border: the layers' open side closed by pyramids (green) and "
+            "closure tetrahedra (red), then TetGen's tetrahedra")
+
+    # The dihedral angles of every cell type (paper Fig. 11b).
+    p_types = np.asarray(pm.VTKObject.GetCellTypesArray())
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8))
+    ax = axes[0]
+    ax.hist(dihedrals(src), bins=bins, histtype="step", density=True, label="input (Gmsh tetrahedra)", color="0.4")
+    ax.hist(dihedrals(am), bins=bins, histtype="step", density=True, label="adapted, tetrahedra only",
+            color="tab:blue")
+    ax.hist(dihedrals(pm), bins=bins, histtype="step", density=True, label="adapted with prism layers, all cells",
+            color="tab:orange")
+    ax.set_xlabel("dihedral angle (degrees)")
+    ax.set_ylabel("density")
+    ax.set_title("Cone case: all cells")
+    ax.legend(fontsize=8)
+    ax = axes[1]
+    for label, mask, color in (("new tetrahedra (TetGen)", p_region == 1, "tab:blue"),
+                               ("kept tetrahedra", p_region == 0, "0.4"),
+                               ("prisms", p_types == 13, "tab:orange"),
+                               ("pyramids", p_types == 14, "tab:green"),
+                               ("closure tetrahedra", (p_region == 2) & (p_types == 10), "tab:red")):
+        angles = dihedrals(pm, mask)
+        ax.hist(angles, bins=bins, histtype="step", density=True, color=color,
+                label="%s (%d cells, min %.1f deg)" % (label, int(mask.sum()), angles.min()))
+    ax.set_xlabel("dihedral angle (degrees)")
+    ax.set_ylabel("density (each kind of cell on its own)")
+    ax.set_yscale("log")
+    ax.set_ylim(1e-4, 2.0)
+    ax.set_title("With prism layers, by kind of cell (paper Fig. 11b)")
+    ax.legend(fontsize=8, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.output, "cone20Ma2p5_dihedral_histogram_prisms.png"), dpi=110)
+    plt.close(fig)
 
 print()
 print("| dataset | shock cells / medial points | check |")

@@ -930,6 +930,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("SecondsSetup", result.Seconds.Setup);
   field("SecondsRemoval", result.Seconds.Removal);
   field("SecondsCavity", result.Seconds.Cavity);
+  field("SecondsLayers", result.Seconds.Layers);
   field("SecondsRefill", result.Seconds.Refill);
   field("RefillAttempts", result.RefillAttempts);
   field("SecondsAssembly", result.Seconds.Assembly);

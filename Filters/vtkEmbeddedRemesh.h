@@ -86,7 +86,7 @@
  * the input, of the output, and new ones; RemovedNodes = the input points
  * that are gone), TwoDimensional.
  *
- * Prism layers (LayerType = PRISMS; 3-D, one rank): ar::BuildPrismLayers
+ * Prism layers (LayerType = PRISMS; 3-D; under MPI equal to the serial run): ar::BuildPrismLayers
  * extrudes NumberOfLayers layers of VTK_WEDGE on each side of the remeshed
  * S along smoothed normals (layer k FirstLayerThickness * GrowthRatio^k, or
  * TotalThickness per side), closes the stack at S's border with VTK_PYRAMID

@@ -14,6 +14,7 @@
 // obstacles are the unit cube's 12 boundary triangles. Each row is the best
 // of 3 runs.
 
+#include "BenchClock.h"
 #include "ARPrismLayers.h"
 #include "../Cxx/ARTestMeshes.h"
 
@@ -29,17 +30,8 @@
 
 namespace
 {
-double Now()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double PeakRSSMB()
-{
-  rusage ru;
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_maxrss / 1024.0;
-}
+using artest::Now;
+using artest::PeakRSSMB;
 
 std::vector<double> BoxTriangles()
 {

@@ -48,7 +48,6 @@
 namespace
 {
 using artest::Now;
-using artest::PeakRSSMB;
 
 constexpr double Pi = 3.14159265358979323846;
 constexpr double Noise = 0.002;

@@ -84,7 +84,6 @@
 namespace
 {
 using artest::Now;
-using artest::PeakRSSMB;
 
 struct Options
 {

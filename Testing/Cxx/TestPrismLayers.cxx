@@ -371,7 +371,6 @@ void ExpectValidCavity(const ar::TetMesh& in, const ar::CavityRemesh& r, std::si
   }
 }
 
-
 bool Build(const Surface& s, const ar::PrismLayerOptions& o, ar::PrismStack& out, std::string& error,
   const std::vector<double>& obstacles = BoxTriangles())
 {

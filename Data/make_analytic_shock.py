@@ -107,20 +107,22 @@ Mesh.RandomSeed = 1;
 """
 
 
-def read_msh22(path):
-    """Minimal ASCII MSH 2.2 reader: nodes and 4-node tetrahedra (type 4)."""
+def read_msh22(path, types=None):
+    """Minimal ASCII MSH 2.2 reader: the nodes used by the elements of `types`
+    (Gmsh element type -> (VTK type, node count); default: 4-node tetrahedra),
+    and those elements as blocks [(VTK type, 0-based point ids)]."""
+    GMSH_TYPES = types or {4: (VTK_TETRA, 4)}
     with open(path, "r") as f:
         lines = f.read().split("\n")
     pos = 0
-    ids, xyz, tets = None, None, []
+    ids, xyz, cells = None, None, {t: [] for t in GMSH_TYPES}
     while pos < len(lines):
         key = lines[pos].strip()
         pos += 1
         if key == "$MeshFormat":
             ver, ftype = lines[pos].split()[:2]
             if not ver.startswith("2.") or ftype != "0":
-                raise RuntimeError("%s: need ASCII MSH 2.2, got %s %s"
-                                   % (path, ver, ftype))
+                raise RuntimeError("%s: need ASCII MSH 2.2, got %s %s" % (path, ver, ftype))
             pos += 1
         elif key == "$Nodes":
             nn = int(lines[pos])
@@ -134,24 +136,28 @@ def read_msh22(path):
             pos += 1
             for ln in lines[pos:pos + ne]:
                 w = ln.split()
-                if int(w[1]) == 4:
+                t = int(w[1])
+                if t in GMSH_TYPES:
                     ntag = int(w[2])
-                    tets.append([int(v) for v in w[3 + ntag:7 + ntag]])
+                    cells[t].append([int(v) for v in w[3 + ntag:3 + ntag + GMSH_TYPES[t][1]]])
             pos += ne
-    if ids is None or not tets:
-        raise RuntimeError("%s: no nodes or no tetrahedra" % path)
-    tets = np.array(tets, dtype=np.int64)
-    # gmsh node tags -> 0-based indices
+    if ids is None:
+        raise RuntimeError("%s: no nodes" % path)
     lut = np.full(ids.max() + 1, -1, dtype=np.int64)
     lut[ids] = np.arange(ids.size)
-    tets = lut[tets]
-    if (tets < 0).any():
-        raise RuntimeError("%s: tetrahedron refers to an unknown node" % path)
-    # keep only nodes used by tetrahedra
-    used = np.unique(tets)
+    blocks = []
+    for t, (vtk_type, n) in GMSH_TYPES.items():
+        if cells[t]:
+            c = lut[np.array(cells[t], dtype=np.int64)]
+            if (c < 0).any():
+                raise RuntimeError("%s: an element refers to an unknown node" % path)
+            blocks.append((vtk_type, c))
+    if not blocks:
+        raise RuntimeError("%s: none of the wanted elements" % path)
+    used = np.unique(np.concatenate([c.ravel() for _, c in blocks]))
     remap = np.full(ids.size, -1, dtype=np.int64)
     remap[used] = np.arange(used.size)
-    return xyz[used], remap[tets]
+    return xyz[used], [(t, remap[c]) for t, c in blocks]
 
 
 def gmsh_cube(h=H):
@@ -167,7 +173,8 @@ def gmsh_cube(h=H):
         subprocess.run([gmsh, geo, "-3", "-format", "msh22", "-nt", "1",
                         "-v", "2", "-o", msh], check=True,
                        stdout=subprocess.DEVNULL)
-        points, tets = read_msh22(msh)
+        points, blocks = read_msh22(msh)
+        tets = blocks[0][1]
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return points, orient_positive(points, tets)

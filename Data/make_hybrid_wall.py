@@ -40,7 +40,7 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "Testing", "Python"))
 
 from analytic_shock import ObliqueShock  # noqa: E402
-from make_analytic_shock import _vtk_array, read_back, write_vtu  # noqa: E402
+from make_analytic_shock import _vtk_array, read_back, read_msh22, write_vtu  # noqa: E402
 from artest import corner_jacobians  # noqa: E402
 
 from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
@@ -83,54 +83,6 @@ FLIP = {VTK_TETRA: [0, 2, 1, 3], VTK_PYRAMID: [0, 3, 2, 1, 4], VTK_WEDGE: [0, 2,
         VTK_HEXAHEDRON: [0, 3, 2, 1, 4, 7, 6, 5]}
 
 
-def read_msh22(path):
-    """Minimal ASCII MSH 2.2 reader: nodes and the 3-D elements of GMSH_TYPES."""
-    with open(path, "r") as f:
-        lines = f.read().split("\n")
-    pos = 0
-    ids, xyz, cells = None, None, {t: [] for t in GMSH_TYPES}
-    while pos < len(lines):
-        key = lines[pos].strip()
-        pos += 1
-        if key == "$MeshFormat":
-            ver, ftype = lines[pos].split()[:2]
-            if not ver.startswith("2.") or ftype != "0":
-                raise RuntimeError("%s: need ASCII MSH 2.2, got %s %s" % (path, ver, ftype))
-            pos += 1
-        elif key == "$Nodes":
-            nn = int(lines[pos])
-            pos += 1
-            arr = np.array([ln.split() for ln in lines[pos:pos + nn]], dtype=float)
-            pos += nn
-            ids = arr[:, 0].astype(np.int64)
-            xyz = arr[:, 1:4]
-        elif key == "$Elements":
-            ne = int(lines[pos])
-            pos += 1
-            for ln in lines[pos:pos + ne]:
-                w = ln.split()
-                t = int(w[1])
-                if t in GMSH_TYPES:
-                    ntag = int(w[2])
-                    cells[t].append([int(v) for v in w[3 + ntag:3 + ntag + GMSH_TYPES[t][1]]])
-            pos += ne
-    if ids is None:
-        raise RuntimeError("%s: no nodes" % path)
-    lut = np.full(ids.max() + 1, -1, dtype=np.int64)
-    lut[ids] = np.arange(ids.size)
-    blocks = []
-    for t, (vtk_type, n) in GMSH_TYPES.items():
-        if cells[t]:
-            c = lut[np.array(cells[t], dtype=np.int64)]
-            if (c < 0).any():
-                raise RuntimeError("%s: an element refers to an unknown node" % path)
-            blocks.append((vtk_type, c))
-    used = np.unique(np.concatenate([c.ravel() for _, c in blocks]))
-    remap = np.full(ids.size, -1, dtype=np.int64)
-    remap[used] = np.arange(used.size)
-    return xyz[used], [(t, remap[c]) for t, c in blocks]
-
-
 def gmsh_hybrid():
     gmsh = shutil.which("gmsh")
     if gmsh is None:
@@ -143,7 +95,7 @@ def gmsh_hybrid():
             f.write(GEO.format(h=H, t=THICKNESS, layers=", ".join(repr(x) for x in LAYERS)))
         subprocess.run([gmsh, geo, "-3", "-format", "msh22", "-nt", "1", "-v", "2", "-o", msh],
                        check=True, stdout=subprocess.DEVNULL)
-        points, blocks = read_msh22(msh)
+        points, blocks = read_msh22(msh, GMSH_TYPES)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     # VTK orientation: flip every cell whose corners are all negative.

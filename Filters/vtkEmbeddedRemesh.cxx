@@ -930,6 +930,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("SecondsSetup", result.Seconds.Setup);
   field("SecondsRemoval", result.Seconds.Removal);
   field("SecondsCavity", result.Seconds.Cavity);
+  field("SecondsLayers", result.Seconds.Layers);
   field("SecondsRefill", result.Seconds.Refill);
   field("RefillAttempts", result.RefillAttempts);
   field("SecondsAssembly", result.Seconds.Assembly);
@@ -998,12 +999,6 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     output->ShallowCopy(input);
     return 1;
   };
-  if (this->LayerType != TETRAHEDRA)
-  {
-    problem = "EmbeddedRemesh: LayerType Prisms runs on one rank only (under MPI the cavity is "
-              "refilled with tetrahedra); use Tetrahedra, or run on one rank.";
-    return passThrough();
-  }
   // ---- This rank's tetrahedra, owned and ghost (the ghosts complete l_v).
   const vtkIdType nPoints = input->GetNumberOfPoints();
   vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
@@ -1252,6 +1247,10 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   options.BoundaryMargin = this->BoundaryMargin;
   options.Quality.MaxRadiusEdgeRatio = this->MaxRadiusEdgeRatio;
   options.Quality.MinDihedralAngle = this->MinDihedralAngle;
+  if (!LayerOptionsOf(this, edge, options.Layers, problem))
+  {
+    return passThrough(); // the same properties on every rank: all refuse
+  }
   options.BoundaryTriangles = boundary;
   // FullDomain: every node goes, so the whole mesh is gathered to rank 0
   // (TetGen is serial) and remeshed there.
@@ -1473,6 +1472,14 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
       needed[result.Mesh.Tetrahedra[4 * t + k]] = 1;
     }
   }
+  for (const std::int64_t id : result.Prisms)
+  {
+    needed[id] = 1;
+  }
+  for (const std::int64_t id : result.Pyramids)
+  {
+    needed[id] = 1;
+  }
   const vtkIdType nInputOut = points->GetNumberOfPoints();
   for (std::size_t i = 0; i < result.SourcePoint.size(); ++i)
   {
@@ -1497,21 +1504,38 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   output->SetPoints(points);
   output->Allocate(static_cast<vtkIdType>(nT + result.SourceCell.size()));
   std::vector<vtkIdType> cellSource; // input cell of each output cell; -1: new
-  vtkNew<vtkIntArray> region;
-  region->SetName("Region");
+  vtkNew<vtkIntArray> region, layer, side;
+  region->SetName("Region"); // 0 kept, 1 new tetrahedron of the refill, 2 layer cell
+  layer->SetName("Layer");
+  side->SetName("LayerSide");
   double kept = 0.0;                // kept cells
   double volumes[2] = { 0.0, 0.0 }; // before, after
-  auto addTet = [&](const vtkIdType pts[4], vtkIdType src) {
-    output->InsertNextCell(VTK_TETRA, 4, pts);
-    double x[4][3];
-    for (int k = 0; k < 4; ++k)
+  double layerCounts[4] = { 0.0, 0.0, 0.0, 0.0 }; // layer cells, prisms, pyramids, closure tetrahedra
+  auto addCell = [&](int type, const vtkIdType* pts, vtkIdType src, int k, int s) {
+    const ar::CellShape shape = type == VTK_TETRA ? ar::CellShape::Tetrahedron
+      : type == VTK_WEDGE                         ? ar::CellShape::Wedge
+                                                  : ar::CellShape::Pyramid;
+    const int n = static_cast<int>(shape);
+    output->InsertNextCell(type, n, pts);
+    double x[6 * 3];
+    for (int j = 0; j < n; ++j)
     {
-      points->GetPoint(pts[k], x[k]);
+      points->GetPoint(pts[j], x + 3 * j);
     }
-    region->InsertNextValue(src >= 0 ? 0 : 1);
+    region->InsertNextValue(src >= 0 ? 0 : k >= 0 ? 2 : 1);
+    layer->InsertNextValue(k);
+    side->InsertNextValue(s);
     cellSource.push_back(src);
-    volumes[1] += ar::TetSignedVolume(x[0], x[1], x[2], x[3]);
+    volumes[1] += ar::CellVolume(shape, x);
     kept += src >= 0 ? 1.0 : 0.0;
+    if (k >= 0)
+    {
+      layerCounts[0] += 1.0;
+      layerCounts[type == VTK_WEDGE ? 1 : type == VTK_PYRAMID ? 2 : 3] += 1.0;
+    }
+  };
+  auto addTet = [&](const vtkIdType pts[4], vtkIdType src, int k = -1, int s = 0) {
+    addCell(VTK_TETRA, pts, src, k, s);
   };
   for (std::size_t t = 0; t < nT; ++t)
   {
@@ -1536,8 +1560,27 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
       const std::int64_t* v = &result.Mesh.Tetrahedra[4 * t];
       const vtkIdType pts[4] = { outOfResult[v[0]], outOfResult[v[1]], outOfResult[v[2]], outOfResult[v[3]] };
       newCellOfResult[t] = static_cast<vtkIdType>(cellSource.size());
-      addTet(pts, -1);
+      const bool closure = !result.TetrahedronLayer.empty() && result.TetrahedronLayer[t] >= 0;
+      addTet(pts, -1, closure ? result.TetrahedronLayer[t] : -1, closure ? result.TetrahedronSide[t] : 0);
     }
+  }
+  for (std::size_t p = 0; p < result.Prisms.size() / 6; ++p)
+  {
+    vtkIdType pts[6];
+    for (int k = 0; k < 6; ++k)
+    {
+      pts[k] = outOfResult[result.Prisms[6 * p + k]];
+    }
+    addCell(VTK_WEDGE, pts, -1, result.PrismLayer[p], result.PrismSide[p]);
+  }
+  for (std::size_t p = 0; p < result.Pyramids.size() / 5; ++p)
+  {
+    vtkIdType pts[5];
+    for (int k = 0; k < 5; ++k)
+    {
+      pts[k] = outOfResult[result.Pyramids[5 * p + k]];
+    }
+    addCell(VTK_PYRAMID, pts, -1, result.PyramidLayer[p], result.PyramidSide[p]);
   }
 
   // ---- Fields: kept points and cells copy theirs; new ones interpolate in
@@ -1604,13 +1647,13 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
       vtkIdType npts;
       const vtkIdType* pts;
       output->GetCellPoints(static_cast<vtkIdType>(k), npts, pts);
-      for (int j = 0; j < 4; ++j)
+      for (vtkIdType j = 0; j < npts; ++j)
       {
         double x[3];
         points->GetPoint(pts[j], x);
         for (int d = 0; d < 3; ++d)
         {
-          centre[d] += 0.25 * x[d];
+          centre[d] += x[d] / static_cast<double>(npts);
         }
       }
       vtkIdType src = cells->FindCell(centre, tol2, cell, subId, pcoords, weights.data());
@@ -1625,16 +1668,22 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     outCD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   }
   output->GetCellData()->AddArray(region);
+  output->GetCellData()->AddArray(layer);
+  output->GetCellData()->AddArray(side);
   vtkEmbeddedRemeshQuality quality = vtkEmbeddedRemeshAddQualityArrays(output, region);
 
   // ---- Field data, equal on every rank and to the serial run's.
   double surfaceTriangles = static_cast<double>(result.Surface.size() / 3);
   double removedNodes = static_cast<double>(result.RemovedNodes);
-  double sums[3] = { quality.NewCells, quality.NewDihedralSum, quality.NonPositiveJacobian };
-  double maxima[3] = { -quality.NewMinDihedral, quality.NewMaxAspectRatio, quality.LayerMaxAspectRatio };
+  double sums[4] = { quality.NewCells, quality.NewDihedralSum, quality.NonPositiveJacobian, quality.LayerCells };
+  double maxima[4] = { -quality.NewMinDihedral, quality.NewMaxAspectRatio, quality.LayerMaxAspectRatio,
+    -quality.LayerMinDihedral };
+  double limited = static_cast<double>(result.LimitedColumns);
   vtkARMeshKernels::AllReduceSum(&kept, 1);
-  vtkARMeshKernels::AllReduceSum(sums, 3);
-  vtkARMeshKernels::AllReduceMax(maxima, 3);
+  vtkARMeshKernels::AllReduceSum(sums, 4);
+  vtkARMeshKernels::AllReduceMax(maxima, 4);
+  vtkARMeshKernels::AllReduceSum(layerCounts, 4);
+  vtkARMeshKernels::AllReduceSum(&limited, 1);
   vtkARMeshKernels::AllReduceSum(volumes, 2);
   vtkARMeshKernels::AllReduceSum(&surfaceTriangles, 1);
   vtkARMeshKernels::AllReduceSum(&removedNodes, 1);
@@ -1644,14 +1693,28 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   quality.NewMinDihedral = -maxima[0];
   quality.NewMaxAspectRatio = maxima[1];
   quality.LayerMaxAspectRatio = maxima[2];
+  quality.LayerCells = sums[3];
+  quality.LayerMinDihedral = -maxima[3];
   auto field = [&](const char* name, double value) {
     output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
   };
   field("KeptCells", kept);
-  field("NewCells", quality.NewCells);
+  field("NewCells", quality.NewCells + layerCounts[0]);
   field("RemovedNodes", removedNodes);
   field("SurfaceTriangles", surfaceTriangles);
   field("SurfaceEdgeLength", edge);
+  field("LayerCells", layerCounts[0]);
+  field("Prisms", layerCounts[1]);
+  field("Pyramids", layerCounts[2]);
+  field("LayerClosureTetrahedra", layerCounts[3]);
+  field("LimitedColumns", limited);
+  {
+    std::vector<double> z;
+    std::string unused;
+    const bool on = options.Layers.NumberOfLayers > 0 && ar::PrismLayerDistances(options.Layers, z, unused);
+    field("LayerStackHeight", on ? z.back() : 0.0);
+    field("FirstLayerThicknessUsed", on ? z[1] : 0.0);
+  }
   vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("RelativeVolumeChange", volumes[0] > 0.0 ? (volumes[1] - volumes[0]) / volumes[0] : 0.0);
   vtkNew<vtkCellArray> faces;

@@ -86,6 +86,19 @@
  * the input, of the output, and new ones; RemovedNodes = the input points
  * that are gone), TwoDimensional.
  *
+ * Prism layers (LayerType = PRISMS; 3-D; under MPI equal to the serial run): ar::BuildPrismLayers
+ * extrudes NumberOfLayers layers of VTK_WEDGE on each side of the remeshed
+ * S along smoothed normals (layer k FirstLayerThickness * GrowthRatio^k, or
+ * TotalThickness per side), closes the stack at S's border with VTK_PYRAMID
+ * cells and thin closure tetrahedra, and TetGen fills the void between the
+ * cavity boundary and the stack's outer surface. The removal radius grows
+ * by the stack height and S is trimmed one more edge back. Cell arrays
+ * Region (0 kept, 1 new tetrahedron, 2 layer cell), Layer and LayerSide;
+ * field data Prisms, Pyramids, LayerClosureTetrahedra, LimitedColumns,
+ * LayerStackHeight, FirstLayerThicknessUsed, MaxAspectRatioLayerCells,
+ * MinDihedralAngleLayerCells, SecondsLayers. Port 1 is S, the faces
+ * between the two sides' innermost prisms.
+ *
  * Bad input (no tetrahedra, inverted cells, non-finite points, an empty S,
  * S outside V, S crossing itself or another S, S too close to kept cells, a
  * TetGen failure) gives an error naming the problem and passes V through

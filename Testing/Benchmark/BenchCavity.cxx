@@ -11,6 +11,7 @@
 // triangulated at the mesh's edge length 1/n. Each row runs once (TetGen
 // dominates and does not vary much).
 
+#include "BenchClock.h"
 #include "ARCavity.h"
 #include "ARTetGen.h"
 #include "ARTetGeometry.h"
@@ -28,17 +29,8 @@
 
 namespace
 {
-double Now()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double PeakRSSMB()
-{
-  rusage ru;
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_maxrss / 1024.0;
-}
+using artest::Now;
+using artest::PeakRSSMB;
 
 /// Runs the `tetgen` program on the files at `prefix` and formats a row
 /// comparing its throughput with ours.

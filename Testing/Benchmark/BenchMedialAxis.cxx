@@ -20,6 +20,7 @@
 // Timing: the best wall-clock time of --reps runs (default 3) after a warm-up,
 // except vtkDelaunay3D.
 
+#include "BenchClock.h"
 #include "ARDelaunay.h"
 #include "ARMedialAxis.h"
 #include "vtkMedialAxisDelaunay.h"
@@ -57,17 +58,8 @@
 
 namespace
 {
-double Now()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double PeakRSSMB()
-{
-  rusage ru;
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_maxrss / 1024.0;
-}
+using artest::Now;
+using artest::PeakRSSMB;
 
 /// One sphere with about n points, noised along the normals; `inward` flips
 /// the normals (and the triangles) so that they point out of the shell.

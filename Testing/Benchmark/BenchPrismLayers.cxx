@@ -14,6 +14,7 @@
 // obstacles are the unit cube's 12 boundary triangles. Each row is the best
 // of 3 runs.
 
+#include "BenchClock.h"
 #include "ARPrismLayers.h"
 #include "../Cxx/ARTestMeshes.h"
 
@@ -29,29 +30,10 @@
 
 namespace
 {
-double Now()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+using artest::BoxTriangles;
+using artest::Now;
+using artest::PeakRSSMB;
 
-double PeakRSSMB()
-{
-  rusage ru;
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_maxrss / 1024.0;
-}
-
-std::vector<double> BoxTriangles()
-{
-  std::vector<double> b;
-  const double c[8][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 0, 1 }, { 1, 1, 1 }, { 0, 1, 1 } };
-  const int q[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 }, { 1, 2, 6, 5 }, { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
-  for (const auto& f : q)
-    for (const int t : { 0, 2 })
-      for (const int k : { f[0], f[t + 1], f[t + 2] })
-        b.insert(b.end(), c[k], c[k] + 3);
-  return b;
-}
 }
 
 int main(int argc, char* argv[])

@@ -21,6 +21,7 @@
 // 1 / LocalSize. Timing: one warm-up, then the best wall-clock time of
 // --reps runs (default 3).
 
+#include "BenchClock.h"
 #include "ARSurfaceFit.h"
 #include "vtkQuadricFit.h"
 
@@ -46,13 +47,10 @@
 
 namespace
 {
+using artest::Now;
+
 constexpr double Pi = 3.14159265358979323846;
 constexpr double Noise = 0.002;
-
-double Now()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 double Best(int reps, const std::function<void()>& run)
 {

@@ -41,6 +41,7 @@
 // set. Set VTK_SMP_BACKEND_IN_USE=STDThread to thread vtkGradientFilter too,
 // or =Sequential to see the sensors on one core.
 
+#include "BenchClock.h"
 #include "vtkFeatureCluster.h"
 #include "vtkShockSensor.h"
 #include "vtkWeightFunction.h"
@@ -82,6 +83,8 @@
 
 namespace
 {
+using artest::Now;
+
 struct Options
 {
   std::vector<double> Sizes;
@@ -108,11 +111,6 @@ struct Row
   char Check[80] = "";
   bool Ok = false;
 };
-
-double Now()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 /// The first three fields of /proc/loadavg: other work on the machine skews
 /// the timings (CPU/wall well below 2 on a 2-core machine is the sign).

@@ -100,28 +100,28 @@ def producer(data):
     return tp
 
 
-stages = ["Input", "SurfaceMeshing", "Setup", "Removal", "Cavity", "Refill", "Assembly", "Output", "Interpolation", "Quality"]
-say("| mesh tets | surface | mode | total s | " + " | ".join(stages) + " | new tets | kept tets | peak RSS MB | TetGen peak MB |")
-say("|---:|---|---|---:|" + "---:|" * len(stages) + "---:|---:|---:|---:|")
+stages = ["Input", "SurfaceMeshing", "Setup", "Removal", "Cavity", "Layers", "Refill", "Assembly", "Output", "Interpolation", "Quality"]
+say("| mesh tets | surface | mode | total s | " + " | ".join(stages) + " | new cells | layer cells | kept cells | peak RSS MB | TetGen peak MB |")
+say("|---:|---|---|---:|" + "---:|" * len(stages) + "---:|---:|---:|---:|---:|")
 for n in args.sizes:
     grid = kuhn_cube(n)
     mesh = producer(grid)
     for name, lo, hi in (("wide", 0.1, 0.9), ("local", 0.3, 0.7)):
         surface = producer(plane(lo, hi, 1.0 / n))
-        for mode in ("LocalCavity", "FullDomain"):
-            if mode == "FullDomain" and name == "local":
+        for mode, layers in (("LocalCavity", "Tetrahedra"), ("LocalCavity", "Prisms"), ("FullDomain", "Tetrahedra")):
+            if name == "local" and (mode == "FullDomain" or layers == "Prisms"):
                 continue  # FullDomain remeshes everything whatever the surface
-            er = EmbeddedRemesh(Input=mesh, Surfaces=[surface], Mode=mode)
+            er = EmbeddedRemesh(Input=mesh, Surfaces=[surface], Mode=mode, LayerType=layers, NumberOfLayers=5)
             t0 = time.time()
             er.UpdatePipeline()
             total = time.time() - t0
             out = er.GetClientSideObject().GetOutputDataObject(0)
             fd = out.GetFieldData()
             value = lambda key: fd.GetArray(key).GetValue(0) if fd.GetArray(key) else float("nan")
-            say("| %d | %s | %s | %.2f | %s | %d | %d | %.0f | %.0f |" % (
-                grid.GetNumberOfCells(), name, mode, total,
+            say("| %d | %s | %s | %.2f | %s | %d | %d | %d | %.0f | %.0f |" % (
+                grid.GetNumberOfCells(), name, mode + (" + prisms" if layers == "Prisms" else ""), total,
                 " | ".join("%.2f" % value("Seconds" + s) for s in stages),
-                value("NewCells"), value("KeptCells"),
+                value("NewCells"), value("LayerCells"), value("KeptCells"),
                 resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
                 resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0))
             Delete(er)

@@ -74,6 +74,19 @@ inline Surface Grid(int nu, int nv, double u0, double u1, double v0, double v1,
   return s;
 }
 
+
+/// The unit cube's 12 boundary triangles, 9 coordinates each, outward.
+inline std::vector<double> BoxTriangles()
+{
+  std::vector<double> b;
+  const double c[8][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 0, 1 }, { 1, 1, 1 }, { 0, 1, 1 } };
+  const int q[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 }, { 1, 2, 6, 5 }, { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
+  for (const auto& f : q)
+    for (const int t : { 0, 2 })
+      for (const int k : { f[0], f[t + 1], f[t + 2] })
+        b.insert(b.end(), c[k], c[k] + 3);
+  return b;
+}
 }
 
 #endif

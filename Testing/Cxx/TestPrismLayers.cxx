@@ -22,6 +22,7 @@
 
 namespace
 {
+using artest::BoxTriangles;
 using artest::Grid;
 using artest::KuhnCube;
 using artest::Surface;
@@ -368,19 +369,6 @@ void ExpectValidCavity(const ar::TetMesh& in, const ar::CavityRemesh& r, std::si
     }
     EXPECT_GE(worst, 10.0) << label << ": TetGen's tetrahedra";
   }
-}
-
-std::vector<double> BoxTriangles()
-{
-  // The unit cube's 12 boundary triangles.
-  std::vector<double> b;
-  const double c[8][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 0, 1 }, { 1, 1, 1 }, { 0, 1, 1 } };
-  const int q[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 }, { 1, 2, 6, 5 }, { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
-  for (const auto& f : q)
-    for (const int t : { 0, 2 })
-      for (const int k : { f[0], f[t + 1], f[t + 2] })
-        b.insert(b.end(), c[k], c[k] + 3);
-  return b;
 }
 
 bool Build(const Surface& s, const ar::PrismLayerOptions& o, ar::PrismStack& out, std::string& error,

@@ -2,8 +2,8 @@
 EmbeddedRemesh (LocalCavity, or FullDomain) on the analytic oblique shock, serial or
 distributed.
 
-    pvbatch MPIEmbeddedRemeshPipeline.py <mesh.vtu> <output> [--mode=FullDomain]
-    mpiexec -np 2 pvbatch --symmetric MPIEmbeddedRemeshPipeline.py <pieces.pvtu> <output> <plane.vtp> [--mode=FullDomain]
+    pvbatch MPIEmbeddedRemeshPipeline.py <mesh.vtu> <output> [--mode=FullDomain] [--layers=Prisms]
+    mpiexec -np 2 pvbatch --symmetric MPIEmbeddedRemeshPipeline.py <pieces.pvtu> <output> <plane.vtp> [--mode=FullDomain] [--layers=Prisms]
 
 The serial run fits the plane with QuadricFit and writes it as
 <output>.plane.vtp; the distributed run reads that plane (on rank 0 only:
@@ -26,7 +26,8 @@ import artest
 
 artest.load_plugin(globals())
 mode = next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--mode=")), "LocalCavity")
-argv = [a for a in sys.argv if not a.startswith("--mode=")]
+layers = next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--layers=")), "Tetrahedra")
+argv = [a for a in sys.argv if not a.startswith("--mode=") and not a.startswith("--layers=")]
 data, out_path = argv[1], argv[2]
 pm = servermanager.vtkProcessModule.GetProcessModule()
 rank, ranks = pm.GetPartitionId(), pm.GetNumberOfLocalPartitions()
@@ -49,7 +50,7 @@ else:
         w.SetInputData(plane.GetClientSideObject().GetOutputDataObject(0))
         w.SetDataModeToBinary()
         w.Write()
-er = EmbeddedRemesh(Input=mesh, Surfaces=[plane], Mode=mode)
+er = EmbeddedRemesh(Input=mesh, Surfaces=[plane], Mode=mode, LayerType=layers, NumberOfLayers=3)
 start = time.time()
 er.UpdatePipeline()
 seconds = time.time() - start

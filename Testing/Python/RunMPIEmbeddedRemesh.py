@@ -13,7 +13,10 @@ cells, embedded surface triangles and field data equal; the volume equal to
 face for face; every embedded triangle a face between two cells. The cavity
 is refilled on rank 0: rank 1 keeps its far field and has no new cells.
 FullDomain gathers the whole mesh to rank 0 (TetGen is serial): rank 1
-ends with no cells.
+ends with no cells. LocalCavity with prism layers (LayerType Prisms, 3 per
+side): the union of the ranks' cells equals the serial run's cell for cell
+(each cell fingerprinted by its type and its points' coordinates), the
+field data too, and the far field stays on rank 1.
 """
 import os
 import sys
@@ -129,4 +132,59 @@ def compare(mode):
 
 for mode in ("LocalCavity", "FullDomain"):
     compare(mode)
+
+
+def fingerprints(ds):
+    """Every cell as (type, its points' coordinates rounded to 1e-9, sorted)."""
+    grid = ds.VTKObject
+    P = np.round(np.asarray(ds.Points, dtype=np.float64) * 1e9).astype(np.int64)
+    out = []
+    for c in range(grid.GetNumberOfCells()):
+        ids = grid.GetCell(c).GetPointIds()
+        out.append((grid.GetCellType(c),) + tuple(sorted(tuple(P[ids.GetId(k)]) for k in range(ids.GetNumberOfIds()))))
+    return out
+
+
+def compare_layers():
+    out = artest.OUTPUT_DIR
+    pieces = os.path.join(out, "mpier_pieces.pvtu")
+    whole = os.path.join(out, "mpier_whole.vtu")
+    plane = os.path.join(out, "mpier_serial_LocalCavity.plane.vtp")
+    serial = os.path.join(out, "mpier_serial_prisms")
+    parallel = os.path.join(out, "mpier_np2_prisms")
+    for f in [serial + ".0.vtu", parallel + ".0.vtu", parallel + ".1.vtu"]:
+        if os.path.exists(f):
+            os.remove(f)
+    rc, _ = artest.run([pvbatch, script, whole, serial, plane, "--layers=Prisms"])
+    check(rc == 0 and os.path.exists(serial + ".0.vtu"), "prisms: serial pvbatch run")
+    rc, text = artest.run([mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "2", pvbatch, "--symmetric", script,
+                           pieces, parallel, plane, "--layers=Prisms"])
+    check(rc == 0 and os.path.exists(parallel + ".1.vtu"), "prisms: mpiexec -np 2 pvbatch run")
+    check("ERROR" not in text and "passes through" not in text, "prisms: no error under MPI")
+    if not (os.path.exists(serial + ".0.vtu") and os.path.exists(parallel + ".1.vtu")):
+        return
+    ref = artest.load(serial + ".0.vtu")
+    par = [artest.load("%s.%d.vtu" % (parallel, r)) for r in range(2)]
+    types = lambda ds: np.bincount([ds.VTKObject.GetCellType(c) for c in range(ds.GetNumberOfCells())], minlength=15)
+    t_ref, t_par = types(ref), types(par[0]) + types(par[1])
+    check(t_ref[13] > 0 and t_ref[14] > 0 and np.array_equal(t_ref, t_par),
+          "prisms: cells per type equal (serial %d tetrahedra, %d prisms, %d pyramids; 2 ranks %d, %d, %d)"
+          % (t_ref[10], t_ref[13], t_ref[14], t_par[10], t_par[13], t_par[14]))
+    region1 = np.asarray(par[1].CellData["Region"])
+    check(len(region1) > 0 and (region1 == 0).all(), "prisms: rank 1 keeps its far field (%d cells), no new cell" % len(region1))
+    for name in ("KeptCells", "NewCells", "LayerCells", "Prisms", "Pyramids", "LayerClosureTetrahedra", "LimitedColumns",
+                 "SurfaceTriangles", "LayerStackHeight", "FirstLayerThicknessUsed"):
+        b = artest.field(ref, name)[0]
+        a = [artest.field(p, name)[0] for p in par]
+        check(all(x == b for x in a), "prisms: field %s equal on both ranks to the serial run (%s)" % (name, b))
+    for name in ("MinDihedralAngleNew", "MinDihedralAngleLayerCells", "MaxAspectRatioLayerCells"):
+        b = artest.field(ref, name)[0]
+        a = [artest.field(p, name)[0] for p in par]
+        check(all(abs(x - b) < 1e-9 for x in a), "prisms: field %s %.6f on both ranks (serial %.6f)" % (name, a[0], b))
+    check(all(abs(artest.field(p, "RelativeVolumeChange")[0]) < 1e-9 for p in par + [ref]), "prisms: volume conserved")
+    check(sorted(fingerprints(ref)) == sorted(fingerprints(par[0]) + fingerprints(par[1])),
+          "prisms: the 2-rank mesh is the serial mesh, cell for cell (every type)")
+
+
+compare_layers()
 artest.finish()

@@ -9,24 +9,16 @@ hold each patch with the faces we wrote.
 Skipped (exit 77) when OpenFOAM is not installed (AR_OPENFOAM_BASHRC
 overrides where its bashrc is looked for).
 """
-import glob
 import os
 import re
 import shutil
-import subprocess
 import sys
 
-BASHRCS = ["/usr/share/openfoam/etc/bashrc"] + sorted(glob.glob("/usr/lib/openfoam/*/etc/bashrc"))
-if os.environ.get("AR_OPENFOAM_BASHRC"):
-    BASHRCS = [os.environ["AR_OPENFOAM_BASHRC"]]
-BASHRC = next((b for b in BASHRCS if os.path.exists(b)), None)
-
 import artest
+import foamcase
 from artest import check
 
-if BASHRC is None:
-    artest.say("SKIPPED: OpenFOAM is not installed (none of %s): gmshToFoam cannot be checked" % BASHRCS)
-    sys.exit(77)
+BASHRC = foamcase.bashrc_or_skip("gmshToFoam")
 
 import numpy as np
 from paraview.simple import *
@@ -39,28 +31,11 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 artest.load_plugin(globals())
 CASE = os.path.join(artest.OUTPUT_DIR, "EmbeddedRemesh2DFoam")
 shutil.rmtree(CASE, ignore_errors=True)
-HEADER = "FoamFile { version 2.0; format ascii; class dictionary; object %s; }\n"
-FILES = {
-    "system/controlDict": HEADER % "controlDict" + "application none;\nstartFrom startTime;\nstartTime 0;\n"
-    "stopAt endTime;\nendTime 1;\ndeltaT 1;\nwriteControl timeStep;\nwriteInterval 1;\n",
-    "system/fvSchemes": HEADER % "fvSchemes" + "ddtSchemes { default none; }\ngradSchemes { default Gauss linear; }\n"
-    "divSchemes { default none; }\nlaplacianSchemes { default none; }\ninterpolationSchemes { default linear; }\n"
-    "snGradSchemes { default corrected; }\n",
-    "system/fvSolution": HEADER % "fvSolution",
-}
-for rel, text in FILES.items():
-    os.makedirs(os.path.dirname(os.path.join(CASE, rel)), exist_ok=True)
-    with open(os.path.join(CASE, rel), "w") as f:
-        f.write(text)
+foamcase.make_case(CASE)
 
 
 def foam(command):
-    r = subprocess.run(["bash", "-c", "source '%s' >/dev/null 2>&1; cd '%s' && %s" % (BASHRC, CASE, command)],
-                       env=artest.child_environment(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                       text=True, timeout=120)
-    with open(os.path.join(CASE, "log." + command.split()[0]), "w") as f:
-        f.write(r.stdout)
-    return r.returncode, r.stdout
+    return foamcase.run(BASHRC, CASE, command)
 
 
 # ---- The wedge as the OpenFOAM reader gives it, the shock plane, the 2-D remesh.
@@ -126,7 +101,7 @@ if rc != 0:
 path = os.path.join(CASE, "constant", "polyMesh", "boundary")
 with open(path) as f:
     text = f.read()
-got = {m.group(1): int(m.group(2)) for m in re.finditer(r"(\w+)\s*\{[^{}]*?nFaces\s+(\d+);[^{}]*\}", text)}
+got = foamcase.boundary_patches(text)
 check(got == written, "polyMesh/boundary patches %s = the written patches %s" % (got, written))
 text, n = re.subn(r"(frontAndBack\s*\{[^{}]*?type\s+)\w+;", r"\1empty;", text)
 with open(path, "w") as f:

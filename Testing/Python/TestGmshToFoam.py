@@ -16,25 +16,17 @@ on its side and a tetrahedron on the wedge's triangle) with named patches
 Skipped (exit 77) when OpenFOAM is not installed (AR_OPENFOAM_BASHRC
 overrides where its bashrc is looked for).
 """
-import glob
 import os
 import re
 import shutil
-import subprocess
 import sys
 import traceback
 
-BASHRCS = ["/usr/share/openfoam/etc/bashrc"] + sorted(glob.glob("/usr/lib/openfoam/*/etc/bashrc"))
-if os.environ.get("AR_OPENFOAM_BASHRC"):  # override (e.g. a non-existent path to try the skip)
-    BASHRCS = [os.environ["AR_OPENFOAM_BASHRC"]]
-BASHRC = next((b for b in BASHRCS if os.path.exists(b)), None)
-
 import artest
+import foamcase
 from artest import check
 
-if BASHRC is None:
-    artest.say("SKIPPED: OpenFOAM is not installed (none of %s): gmshToFoam cannot be checked" % BASHRCS)
-    sys.exit(77)
+BASHRC = foamcase.bashrc_or_skip("gmshToFoam")
 
 import numpy as np
 from paraview.simple import *
@@ -52,36 +44,14 @@ OUT = os.path.join(artest.OUTPUT_DIR, "GmshToFoam")
 shutil.rmtree(OUT, ignore_errors=True)
 os.makedirs(OUT)
 
-HEADER = "FoamFile { version 2.0; format ascii; class dictionary; object %s; }\n"
-CASE_FILES = {
-    "system/controlDict": HEADER % "controlDict" +
-    "application none;\nstartFrom startTime;\nstartTime 0;\nstopAt endTime;\nendTime 1;\n"
-    "deltaT 1;\nwriteControl timeStep;\nwriteInterval 1;\n",
-    "system/fvSchemes": HEADER % "fvSchemes" +
-    "ddtSchemes { default none; }\ngradSchemes { default Gauss linear; }\ndivSchemes { default none; }\n"
-    "laplacianSchemes { default none; }\ninterpolationSchemes { default linear; }\n"
-    "snGradSchemes { default corrected; }\n",
-    "system/fvSolution": HEADER % "fvSolution",
-}
-
-
 def foam(case, command):
-    """Runs an OpenFOAM utility in `case` (bashrc sourced in bash -c)."""
-    r = subprocess.run(["bash", "-c", "source '%s' >/dev/null 2>&1; cd '%s' && %s" % (BASHRC, case, command)],
-                       env=artest.child_environment(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                       text=True, timeout=120)
-    with open(os.path.join(case, "log." + command.split()[0]), "w") as f:
-        f.write(r.stdout)
-    return r.returncode, r.stdout
+    return foamcase.run(BASHRC, case, command)
 
 
 def boundary_patches(case):
     """{name: nFaces} of constant/polyMesh/boundary."""
     with open(os.path.join(case, "constant", "polyMesh", "boundary")) as f:
-        text = re.sub(r"/\*.*?\*/", "", f.read(), flags=re.S)
-    text = re.sub(r"//[^\n]*", "", text)
-    return {m.group(1): int(m.group(2))
-            for m in re.finditer(r"(\w+)\s*\{[^{}]*?nFaces\s+(\d+);[^{}]*\}", text)}
+        return foamcase.boundary_patches(f.read())
 
 
 def msh_patches(path):
@@ -108,10 +78,7 @@ def run_case(label, grid, expected_types):
     """Writes `grid` as .msh, converts it, checks it. expected_types:
     checkMesh's names -> counts, from the input."""
     case = os.path.join(OUT, label)
-    for rel, text in CASE_FILES.items():
-        os.makedirs(os.path.dirname(os.path.join(case, rel)), exist_ok=True)
-        with open(os.path.join(case, rel), "w") as f:
-            f.write(text)
+    foamcase.make_case(case)
     msh = os.path.join(case, "mesh.msh")
     src = PVTrivialProducer()
     src.GetClientSideObject().SetOutput(grid)

@@ -1,6 +1,7 @@
 """The Gmsh MSH 2.2 files of vtkGmshWriter through OpenFOAM's own reader:
 write a mesh with SaveData('.msh'), make a minimal case, run `gmshToFoam`
-and `checkMesh` (also on the OpenFOAM cone's mesh adapted by EmbeddedRemesh), and assert
+and `checkMesh` (also on the OpenFOAM cone's mesh adapted by EmbeddedRemesh, with and
+without prism layers), and assert
 - gmshToFoam exits 0;
 - constant/polyMesh/boundary has exactly the written physical names as
   patches, with the number of faces written to each;
@@ -171,5 +172,15 @@ adapted.UpdatePipeline()
 A = servermanager.Fetch(adapted)
 check(A.GetCellData().GetArray("Region") is not None, "cone: EmbeddedRemesh ran (%d cells)" % A.GetNumberOfCells())
 run_case("cone_adapted", A, {"tetrahedra": A.GetNumberOfCells()})
+
+# ---- The same with prism layers on both sides of the shock cone: prisms,
+# pyramids and tetrahedra (the solver takes the hybrid mesh).
+layered = EmbeddedRemesh(Input=cone, Surfaces=[fit], LayerType="Prisms", NumberOfLayers=4)
+layered.UpdatePipeline()
+L = servermanager.Fetch(layered)
+count = {t: sum(1 for c in range(L.GetNumberOfCells()) if L.GetCellType(c) == t) for t in (10, 13, 14)}
+check(count[13] > 0 and count[14] > 0, "cone with prism layers: EmbeddedRemesh ran (%d prisms, %d pyramids, "
+      "%d tetrahedra)" % (count[13], count[14], count[10]))
+run_case("cone_adapted_prisms", L, {"prisms": count[13], "pyramids": count[14], "tetrahedra": count[10]})
 
 artest.finish()

@@ -64,7 +64,7 @@ namespace
 {
 /// The prism-layer options from the filter's properties (NumberOfLayers = 0
 /// when LayerType is Tetrahedra). `edge`: the surface edge length, for the
-/// automatic first layer (a tenth of it). False with `problem` naming the
+/// automatic first layer (the stack half an edge high). False with `problem` naming the
 /// bad property.
 bool LayerOptionsOf(vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions& layers, std::string& problem)
 {
@@ -89,7 +89,7 @@ bool LayerOptionsOf(vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions&
   else if (!(self->GetFirstLayerThickness() >= 0.0) || !std::isfinite(self->GetFirstLayerThickness()))
   {
     msg << "FirstLayerThickness is " << self->GetFirstLayerThickness()
-        << "; it must be positive (or 0 for a tenth of the surface edge length).";
+        << "; it must be positive (or 0 for a stack half a surface edge high).";
   }
   else if (!(self->GetTotalThickness() >= 0.0) || !std::isfinite(self->GetTotalThickness()))
   {
@@ -103,8 +103,16 @@ bool LayerOptionsOf(vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions&
   layers.NumberOfLayers = self->GetNumberOfLayers();
   layers.GrowthRatio = self->GetGrowthRatio();
   layers.TotalThickness = self->GetTotalThickness();
+  // Automatic: the stack on each side half a surface edge high. Higher
+  // stacks (above about 0.6 edge on the cone) leave TetGen slivers against
+  // the closure at S's border.
+  double sum = 0.0, grow = 1.0;
+  for (int k = 0; k < layers.NumberOfLayers; ++k, grow *= layers.GrowthRatio)
+  {
+    sum += grow;
+  }
   layers.FirstLayerThickness =
-    self->GetFirstLayerThickness() > 0.0 ? self->GetFirstLayerThickness() : 0.1 * edge;
+    self->GetFirstLayerThickness() > 0.0 ? self->GetFirstLayerThickness() : 0.5 * edge / sum;
   return true;
 }
 

@@ -192,7 +192,7 @@ public:
   /// Tetrahedra (default) or Prisms: NumberOfLayers prism layers on each
   /// side of S (ar::BuildPrismLayers), layer k FirstLayerThickness *
   /// GrowthRatio^k thick, or TotalThickness per side when that is > 0;
-  /// FirstLayerThickness 0 means a tenth of the surface edge length. Not
+  /// FirstLayerThickness 0 makes each side's stack half a surface edge high. Not
   /// clamped: out-of-range values are refused with an error naming them.
   vtkSetMacro(LayerType, int);
   vtkGetMacro(LayerType, int);

@@ -484,12 +484,11 @@ if os.path.exists(cone_path):
 
     # ---- The prism variant (paper sections 4.1, 4.2): LayerType Prisms on
     # the same fitted cone. Prism layers on both sides of the embedded shock
-    # cone (the first layer 0.1 x the surface edge length, growth 1.2), the
-    # quads of the stack's open side at S's border closed by pyramids and
-    # thin closure tetrahedra, the rest of the cavity refilled by TetGen.
-    # (4 layers: with the default 5, whose stack is 0.74 surface edges high
-    # here, TetGen leaves two 2 degree slivers against the border closure.)
-    layers = 4
+    # cone (the defaults: 5 layers, growth 1.2, each side's stack half a
+    # surface edge high), the quads of the stack's open side at S's border
+    # closed by pyramids and thin closure tetrahedra, the rest of the cavity
+    # refilled by TetGen.
+    layers = 5
     prisms = EmbeddedRemesh(Input=cone, Surfaces=[surface_c], Mode="LocalCavity", LayerType="Prisms",
                             NumberOfLayers=layers, GrowthRatio=1.2)
     pm = local(prisms)

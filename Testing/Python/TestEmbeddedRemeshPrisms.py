@@ -37,7 +37,7 @@ a. Planar S, the analytic oblique shock with QuadricFit's plane: S on the
    column, layer k FirstLayerThickness x GrowthRatio^k thick (along the
    normal) within 1% and its bottom at the sum of the layers below.
 b. Curved S, the OpenFOAM cone with QuadricFit's cone (FirstLayerThickness
-   automatic: 0.1 x SurfaceEdgeLength): no folded layer: every lateral edge
+   automatic: each side's stack half a SurfaceEdgeLength high): no folded layer: every lateral edge
    of every prism points to the side of its S triangle that its LayerSide
    says, and every prism's top triangle is within 60 degrees of its S
    triangle's normal (a cheap proxy for caps that do not overlap; that no
@@ -340,8 +340,9 @@ P, W, pidx, layer, side, ptri, f = r["P"], r["W"], r["pidx"], r["layer"], r["sid
 l_s = f("SurfaceEdgeLength")
 artest.say("cone: SurfaceEdgeLength %.4f, FirstLayerThicknessUsed %.5f, LayerStackHeight %.4f"
            % (l_s, f("FirstLayerThicknessUsed"), f("LayerStackHeight")))
-check(abs(f("FirstLayerThicknessUsed") / (0.1 * l_s) - 1) < 1e-12,
-      "cone: FirstLayerThickness 0 (automatic) used 0.1 x SurfaceEdgeLength")
+check(abs(f("LayerStackHeight") / (0.5 * l_s) - 1) < 1e-12 and
+      abs(f("FirstLayerThicknessUsed") * sum(1.2 ** k for k in range(LAYERS)) / f("LayerStackHeight") - 1) < 1e-12,
+      "cone: FirstLayerThickness 0 (automatic): each side's stack is half a surface edge high")
 # No folded layer: each lateral edge towards its LayerSide of its S triangle.
 nS = r["Snormal"][ptri]
 nS /= np.linalg.norm(nS, axis=1)[:, None]

@@ -29,7 +29,7 @@ import numpy as np
 from paraview.simple import *
 from paraview import servermanager
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
-from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkMultiBlockDataSet, vtkPolyData, vtkCellArray
+from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
 from vtkmodules.vtkFiltersGeneral import vtkCellValidator
 from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
 from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
@@ -225,45 +225,19 @@ check(artest.field(out, "KeptCells")[0] == (region == 0).sum() and artest.field(
       "KeptCells and NewCells match")
 
 # ---- Multiblock (OpenFOAM reader shape): internalMesh + named patches.
-volume = src.VTKObject
-g = vtkGeometryFilter()
-g.SetInputData(volume)
-g.Update()
-bskin = g.GetOutput()
-BP = vtk_to_numpy(bskin.GetPoints().GetData()).astype(np.float64)
-bo = vtk_to_numpy(bskin.GetPolys().GetOffsetsArray())
-bc = vtk_to_numpy(bskin.GetPolys().GetConnectivityArray())
-faces = [bc[bo[f]:bo[f + 1]] for f in range(len(bo) - 1)]
-centre = np.array([BP[f].mean(axis=0) for f in faces])
-b = volume.GetBounds()
-names = np.full(len(faces), "obstacle", dtype=object)
-names[np.abs(centre[:, 1] - b[3]) < 1e-7] = "top"
-names[np.abs(centre[:, 0] - b[0]) < 1e-7] = "inlet"
-names[np.abs(centre[:, 0] - b[1]) < 1e-7] = "outlet"
-names[(np.abs(centre[:, 2] - zlo) < 1e-9) | (np.abs(centre[:, 2] - zhi) < 1e-9)] = "frontAndBack"
+def wedge_patches(centre, b):
+    names = np.full(len(centre), "obstacle", dtype=object)
+    names[np.abs(centre[:, 1] - b[3]) < 1e-7] = "top"
+    names[np.abs(centre[:, 0] - b[0]) < 1e-7] = "inlet"
+    names[np.abs(centre[:, 0] - b[1]) < 1e-7] = "outlet"
+    names[(np.abs(centre[:, 2] - zlo) < 1e-9) | (np.abs(centre[:, 2] - zhi) < 1e-9)] = "frontAndBack"
+    return names
+
+
 patches = ["inlet", "outlet", "top", "obstacle", "frontAndBack"]
-mb = vtkMultiBlockDataSet()
-mb.SetNumberOfBlocks(2)
-mb.SetBlock(0, volume)
-mb.GetMetaData(0).Set(vtkCompositeDataSet.NAME(), "internalMesh")
-boundary = vtkMultiBlockDataSet()
-boundary.SetNumberOfBlocks(len(patches))
-from vtkmodules.vtkCommonCore import vtkIntArray
-for i, name in enumerate(patches):
-    pd = vtkPolyData()
-    pd.SetPoints(bskin.GetPoints())
-    cells = vtkCellArray()
-    face_id = vtkIntArray()
-    face_id.SetName("FaceId")
-    for f in np.where(names == name)[0]:
-        cells.InsertNextCell(len(faces[f]), [int(v) for v in faces[f]])
-        face_id.InsertNextValue(int(f))
-    pd.SetPolys(cells)
-    pd.GetCellData().AddArray(face_id)
-    boundary.SetBlock(i, pd)
-    boundary.GetMetaData(i).Set(vtkCompositeDataSet.NAME(), name)
-mb.SetBlock(1, boundary)
-mb.GetMetaData(1).Set(vtkCompositeDataSet.NAME(), "boundary")
+volume = src.VTKObject
+mb, names = artest.openfoam_multiblock(volume, wedge_patches, patches)
+boundary = mb.GetBlock(1)
 check(all((names == n).sum() > 0 for n in patches), "the wedge's boundary in 5 patches: %s"
       % {n: int((names == n).sum()) for n in patches})
 source = PVTrivialProducer()
@@ -319,6 +293,7 @@ ug = volume.NewInstance()
 ug.DeepCopy(volume)
 for name in [ug.GetCellData().GetArrayName(i) for i in range(ug.GetCellData().GetNumberOfArrays())]:
     ug.GetCellData().RemoveArray(name)
+from vtkmodules.vtkCommonCore import vtkIntArray
 pid = vtkIntArray()
 pid.SetName("PatchId")
 for _ in range(ug.GetNumberOfCells()):

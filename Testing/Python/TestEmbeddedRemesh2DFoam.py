@@ -23,8 +23,6 @@ BASHRC = foamcase.bashrc_or_skip("gmshToFoam")
 import numpy as np
 from paraview.simple import *
 from paraview import servermanager
-from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkMultiBlockDataSet, vtkPolyData, vtkCellArray
-from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
 from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
@@ -40,40 +38,19 @@ def foam(command):
 
 # ---- The wedge as the OpenFOAM reader gives it, the shock plane, the 2-D remesh.
 reader = XMLUnstructuredGridReader(FileName=[artest.data("wedge15Ma5.vtu")])
-volume = artest.fetch(reader).VTKObject
-g = vtkGeometryFilter()
-g.SetInputData(volume)
-g.Update()
-skin = g.GetOutput()
-SP = vtk_to_numpy(skin.GetPoints().GetData()).astype(np.float64)
-so = vtk_to_numpy(skin.GetPolys().GetOffsetsArray())
-sc = vtk_to_numpy(skin.GetPolys().GetConnectivityArray())
-faces = [sc[so[f]:so[f + 1]] for f in range(len(so) - 1)]
-centre = np.array([SP[f].mean(axis=0) for f in faces])
-b = volume.GetBounds()
-names = np.full(len(faces), "obstacle", dtype=object)
-names[np.abs(centre[:, 1] - b[3]) < 1e-7] = "top"
-names[np.abs(centre[:, 0] - b[0]) < 1e-7] = "inlet"
-names[np.abs(centre[:, 0] - b[1]) < 1e-7] = "outlet"
-names[(np.abs(centre[:, 2] - b[4]) < 1e-9) | (np.abs(centre[:, 2] - b[5]) < 1e-9)] = "frontAndBack"
+
+
+def wedge_patches(centre, b):
+    names = np.full(len(centre), "obstacle", dtype=object)
+    names[np.abs(centre[:, 1] - b[3]) < 1e-7] = "top"
+    names[np.abs(centre[:, 0] - b[0]) < 1e-7] = "inlet"
+    names[np.abs(centre[:, 0] - b[1]) < 1e-7] = "outlet"
+    names[(np.abs(centre[:, 2] - b[4]) < 1e-9) | (np.abs(centre[:, 2] - b[5]) < 1e-9)] = "frontAndBack"
+    return names
+
+
 patches = ["inlet", "outlet", "top", "obstacle", "frontAndBack"]
-mb = vtkMultiBlockDataSet()
-mb.SetNumberOfBlocks(2)
-mb.SetBlock(0, volume)
-mb.GetMetaData(0).Set(vtkCompositeDataSet.NAME(), "internalMesh")
-boundary = vtkMultiBlockDataSet()
-boundary.SetNumberOfBlocks(len(patches))
-for i, name in enumerate(patches):
-    pd = vtkPolyData()
-    pd.SetPoints(skin.GetPoints())
-    cells = vtkCellArray()
-    for f in np.where(names == name)[0]:
-        cells.InsertNextCell(len(faces[f]), [int(v) for v in faces[f]])
-    pd.SetPolys(cells)
-    boundary.SetBlock(i, pd)
-    boundary.GetMetaData(i).Set(vtkCompositeDataSet.NAME(), name)
-mb.SetBlock(1, boundary)
-mb.GetMetaData(1).Set(vtkCompositeDataSet.NAME(), "boundary")
+mb, names = artest.openfoam_multiblock(artest.fetch(reader).VTKObject, wedge_patches, patches)
 source = PVTrivialProducer()
 source.GetClientSideObject().SetOutput(mb)
 weight = WeightFunction(Input=reader, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)

@@ -13,7 +13,7 @@ import numpy as np
 from paraview.simple import *
 from paraview import servermanager
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData, vtkCellArray
+from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
 from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
 from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
 
@@ -23,42 +23,23 @@ from artest import check
 artest.load_plugin(globals())
 
 cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
-volume = artest.fetch(cone).VTKObject
-geometry = vtkGeometryFilter()
-geometry.SetInputData(volume)
-geometry.Update()
-skin = geometry.GetOutput()
-P = vtk_to_numpy(skin.GetPoints().GetData()).astype(np.float64)
-T = vtk_to_numpy(skin.GetPolys().GetConnectivityArray()).reshape(-1, 3)
-c = P[T].mean(axis=1)
-b = volume.GetBounds()
-names = np.full(len(T), "cone", dtype=object)
-names[np.abs(c[:, 0] - b[0]) < 1e-6] = "inlet"
-names[np.abs(c[:, 0] - b[1]) < 1e-6] = "outlet"
-names[np.abs(c[:, 2] - b[4]) < 1e-6] = "symmetry"
-far = np.hypot(c[:, 1], c[:, 2]) > 0.6 * b[3]  # the outer cylinder (the cone body is near the axis)
-names[far & (names == "cone")] = "farfield"
-patches = ["inlet", "outlet", "symmetry", "farfield", "cone"]
 
-mb = vtkMultiBlockDataSet()
-mb.SetNumberOfBlocks(2)
-mb.SetBlock(0, volume)
-mb.GetMetaData(0).Set(vtkCompositeDataSet.NAME(), "internalMesh")
-boundary = vtkMultiBlockDataSet()
-boundary.SetNumberOfBlocks(len(patches))
-counts = {}
-for i, name in enumerate(patches):
-    pd = vtkPolyData()
-    pd.SetPoints(skin.GetPoints())
-    cells = vtkCellArray()
-    for tri in T[names == name]:
-        cells.InsertNextCell(3, [int(v) for v in tri])
-    pd.SetPolys(cells)
-    boundary.SetBlock(i, pd)
-    boundary.GetMetaData(i).Set(vtkCompositeDataSet.NAME(), name)
-    counts[name] = pd.GetNumberOfCells()
-mb.SetBlock(1, boundary)
-mb.GetMetaData(1).Set(vtkCompositeDataSet.NAME(), "boundary")
+
+def cone_patches(c, b):
+    names = np.full(len(c), "cone", dtype=object)
+    names[np.abs(c[:, 0] - b[0]) < 1e-6] = "inlet"
+    names[np.abs(c[:, 0] - b[1]) < 1e-6] = "outlet"
+    names[np.abs(c[:, 2] - b[4]) < 1e-6] = "symmetry"
+    far = np.hypot(c[:, 1], c[:, 2]) > 0.6 * b[3]  # the outer cylinder (the cone body is near the axis)
+    names[far & (names == "cone")] = "farfield"
+    return names
+
+
+patches = ["inlet", "outlet", "symmetry", "farfield", "cone"]
+volume = artest.fetch(cone).VTKObject
+mb, names = artest.openfoam_multiblock(volume, cone_patches, patches)
+boundary = mb.GetBlock(1)
+counts = {n: int((names == n).sum()) for n in patches}
 check(all(n > 0 for n in counts.values()), "the cone's boundary in 5 patches: %s" % counts)
 source = PVTrivialProducer()
 source.GetClientSideObject().SetOutput(mb)

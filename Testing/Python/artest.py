@@ -360,3 +360,48 @@ def skin(grid):
     g.SetInputData(grid)
     g.Update()
     return g.GetOutput()
+
+
+def openfoam_multiblock(volume, classify, patches):
+    """`volume` (a vtkUnstructuredGrid) as ParaView's OpenFOAM reader gives a
+    case: a multiblock of "internalMesh" and a "boundary" block with one
+    polydata leaf per patch, in the order of `patches`. The boundary faces
+    (vtkGeometryFilter) are named by `classify(centres, bounds)`, which gets
+    the faces' centres (n x 3) and the volume's bounds and returns one patch
+    name per face. Each leaf's cells carry FaceId, the face's index. Returns
+    the multiblock and the face names (a numpy array, one per face)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonCore import vtkIntArray
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkCompositeDataSet, vtkMultiBlockDataSet, vtkPolyData
+    from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
+    g = vtkGeometryFilter()
+    g.SetInputData(volume)
+    g.Update()
+    skin = g.GetOutput()
+    P = vtk_to_numpy(skin.GetPoints().GetData()).astype(np.float64)
+    offsets = vtk_to_numpy(skin.GetPolys().GetOffsetsArray())
+    conn = vtk_to_numpy(skin.GetPolys().GetConnectivityArray())
+    faces = [conn[offsets[f]:offsets[f + 1]] for f in range(len(offsets) - 1)]
+    names = np.asarray(classify(np.array([P[f].mean(axis=0) for f in faces]), volume.GetBounds()), dtype=object)
+    mb = vtkMultiBlockDataSet()
+    mb.SetNumberOfBlocks(2)
+    mb.SetBlock(0, volume)
+    mb.GetMetaData(0).Set(vtkCompositeDataSet.NAME(), "internalMesh")
+    boundary = vtkMultiBlockDataSet()
+    boundary.SetNumberOfBlocks(len(patches))
+    for i, name in enumerate(patches):
+        pd = vtkPolyData()
+        pd.SetPoints(skin.GetPoints())
+        cells = vtkCellArray()
+        face_id = vtkIntArray()
+        face_id.SetName("FaceId")
+        for f in np.where(names == name)[0]:
+            cells.InsertNextCell(len(faces[f]), [int(v) for v in faces[f]])
+            face_id.InsertNextValue(int(f))
+        pd.SetPolys(cells)
+        pd.GetCellData().AddArray(face_id)
+        boundary.SetBlock(i, pd)
+        boundary.GetMetaData(i).Set(vtkCompositeDataSet.NAME(), name)
+    mb.SetBlock(1, boundary)
+    mb.GetMetaData(1).Set(vtkCompositeDataSet.NAME(), "boundary")
+    return mb, names

@@ -160,24 +160,29 @@ def read_msh22(path, types=None):
     return xyz[used], [(t, remap[c]) for t, c in blocks]
 
 
-def gmsh_cube(h=H):
+def gmsh_mesh(geo_text, types=None):
+    """Runs gmsh (3-D, MSH 2.2, one thread) on a .geo text in a scratch
+    folder; returns read_msh22's points and blocks."""
     gmsh = shutil.which("gmsh")
     if gmsh is None:
         raise RuntimeError("gmsh not found on PATH")
-    tmp = tempfile.mkdtemp(prefix="analytic_shock_")
+    tmp = tempfile.mkdtemp(prefix="ar_gmsh_")
     try:
-        geo = os.path.join(tmp, "cube.geo")
-        msh = os.path.join(tmp, "cube.msh")
+        geo = os.path.join(tmp, "mesh.geo")
+        msh = os.path.join(tmp, "mesh.msh")
         with open(geo, "w") as f:
-            f.write(GEO.format(h=h))
+            f.write(geo_text)
         subprocess.run([gmsh, geo, "-3", "-format", "msh22", "-nt", "1",
                         "-v", "2", "-o", msh], check=True,
                        stdout=subprocess.DEVNULL)
-        points, blocks = read_msh22(msh)
-        tets = blocks[0][1]
+        return read_msh22(msh, types)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    return points, orient_positive(points, tets)
+
+
+def gmsh_cube(h=H):
+    points, blocks = gmsh_mesh(GEO.format(h=h))
+    return points, orient_positive(points, blocks[0][1])
 
 
 # ---------------------------------------------------------------------------

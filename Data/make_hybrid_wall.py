@@ -28,10 +28,7 @@ checks). Written in XML Binary mode (zlib), double precision.
 """
 
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
 
 import numpy as np
 
@@ -40,7 +37,7 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "Testing", "Python"))
 
 from analytic_shock import ObliqueShock  # noqa: E402
-from make_analytic_shock import _vtk_array, read_back, read_msh22, write_vtu  # noqa: E402
+from make_analytic_shock import _vtk_array, gmsh_mesh, read_back, write_vtu  # noqa: E402
 from artest import corner_jacobians  # noqa: E402
 
 from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
@@ -84,20 +81,8 @@ FLIP = {VTK_TETRA: [0, 2, 1, 3], VTK_PYRAMID: [0, 3, 2, 1, 4], VTK_WEDGE: [0, 2,
 
 
 def gmsh_hybrid():
-    gmsh = shutil.which("gmsh")
-    if gmsh is None:
-        raise RuntimeError("gmsh not found on PATH")
-    tmp = tempfile.mkdtemp(prefix="hybrid_wall_")
-    try:
-        geo = os.path.join(tmp, "wall.geo")
-        msh = os.path.join(tmp, "wall.msh")
-        with open(geo, "w") as f:
-            f.write(GEO.format(h=H, t=THICKNESS, layers=", ".join(repr(x) for x in LAYERS)))
-        subprocess.run([gmsh, geo, "-3", "-format", "msh22", "-nt", "1", "-v", "2", "-o", msh],
-                       check=True, stdout=subprocess.DEVNULL)
-        points, blocks = read_msh22(msh, GMSH_TYPES)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+    points, blocks = gmsh_mesh(GEO.format(h=H, t=THICKNESS, layers=", ".join(repr(x) for x in LAYERS)),
+                               GMSH_TYPES)
     # VTK orientation: flip every cell whose corners are all negative.
     oriented = []
     for vtk_type, cells in blocks:

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkARSolverMesh.h"
 
+#include "ARCellQuality.h"
+
 #include "vtkAlgorithm.h"
 #include "vtkCellData.h"
 #include "vtkCellTypes.h"
@@ -37,44 +39,30 @@
 
 namespace
 {
-// ---- VTK's face tables of the linear 3-D cells (outward for a valid cell).
-const int TetFaces[4][4] = { { 0, 1, 3, -1 }, { 1, 2, 3, -1 }, { 2, 0, 3, -1 }, { 0, 2, 1, -1 } };
-const int HexFaces[6][4] = { { 0, 4, 7, 3 }, { 1, 2, 6, 5 }, { 0, 1, 5, 4 }, { 3, 7, 6, 2 },
-  { 0, 3, 2, 1 }, { 4, 5, 6, 7 } };
-const int WedgeFaces[5][4] = { { 0, 1, 2, -1 }, { 3, 5, 4, -1 }, { 0, 3, 4, 1 }, { 1, 4, 5, 2 },
-  { 2, 5, 3, 0 } };
-const int PyramidFaces[5][4] = { { 0, 3, 2, 1 }, { 0, 1, 4, -1 }, { 1, 2, 4, -1 }, { 2, 3, 4, -1 },
-  { 3, 0, 4, -1 } };
-
-int NumberOfFaces(unsigned char type)
+// ---- The faces of the linear 3-D cells (outward for a valid cell): ARCellQuality's.
+ar::CellShape ShapeOf(unsigned char type)
 {
   switch (type)
   {
     case VTK_TETRA:
-      return 4;
+      return ar::CellShape::Tetrahedron;
     case VTK_HEXAHEDRON:
-      return 6;
+      return ar::CellShape::Hexahedron;
     case VTK_WEDGE:
-    case VTK_PYRAMID:
-      return 5;
+      return ar::CellShape::Wedge;
     default:
-      return 0;
+      return ar::CellShape::Pyramid;
   }
+}
+
+int NumberOfFaces(unsigned char type)
+{
+  return ar::NumberOfFaces(ShapeOf(type));
 }
 
 const int* Face(unsigned char type, int f)
 {
-  switch (type)
-  {
-    case VTK_TETRA:
-      return TetFaces[f];
-    case VTK_HEXAHEDRON:
-      return HexFaces[f];
-    case VTK_WEDGE:
-      return WedgeFaces[f];
-    default:
-      return PyramidFaces[f];
-  }
+  return ar::CellFace(ShapeOf(type), f);
 }
 
 int FaceSize(const int* face)
@@ -428,8 +416,13 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
   {
     const unsigned char type = this->CellTypes[c];
     const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
-    const double* origin = &this->Points[3 * cell[0]];
-    double volume6 = 0.0;
+    const ar::CellShape shape = ShapeOf(type);
+    double x[8 * 3];
+    for (int i = 0; i < ar::NumberOfNodes(shape); ++i)
+    {
+      std::copy(&this->Points[3 * cell[i]], &this->Points[3 * cell[i]] + 3, x + 3 * i);
+    }
+    const double volume = ar::CellVolume(shape, x);
     for (int f = 0; f < NumberOfFaces(type); ++f)
     {
       const int* face = Face(type, f);
@@ -438,18 +431,6 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
       for (int i = 0; i < n; ++i)
       {
         fids[i] = cell[face[i]];
-      }
-      for (int t = 1; t + 1 < n; ++t)
-      {
-        double a[3], b[3], d[3];
-        for (int k = 0; k < 3; ++k)
-        {
-          a[k] = this->Points[3 * fids[0] + k] - origin[k];
-          b[k] = this->Points[3 * fids[t] + k] - origin[k];
-          d[k] = this->Points[3 * fids[t + 1] + k] - origin[k];
-        }
-        volume6 += a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
-          a[2] * (b[0] * d[1] - b[1] * d[0]);
       }
       FaceRecord& record = faces[MakeKey(fids, n)];
       if (record.Count == 0)
@@ -465,11 +446,11 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
         return false;
       }
     }
-    if (!(volume6 > 0.0))
+    if (!(volume > 0.0))
     {
       error = "3-D cell number " + std::to_string(c) + " (a " + TypeName(type) +
         ") is inverted or degenerate: its volume from its faces in VTK's node order is " +
-        std::to_string(volume6 / 6.0);
+        std::to_string(volume);
       return false;
     }
   }

@@ -128,6 +128,11 @@ int NumberOfEdges(CellShape shape)
   return static_cast<int>(Of(shape).Edges.size());
 }
 
+const int* CellFace(CellShape shape, int f)
+{
+  return Of(shape).Faces[f].data();
+}
+
 int NumberOfFaces(CellShape shape)
 {
   return static_cast<int>(Of(shape).Faces.size());

@@ -61,6 +61,10 @@ int NumberOfNodes(CellShape shape);
 int NumberOfEdges(CellShape shape);
 int NumberOfFaces(CellShape shape);
 
+/// Face f of a shape: four local node ids, outward (right-hand normal out of
+/// a valid cell); a triangle ends with -1.
+const int* CellFace(CellShape shape, int f);
+
 struct CellQuality
 {
   double MinDihedralAngle = 0.0;  ///< degrees

@@ -103,16 +103,14 @@ bool LayerOptionsOf(vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions&
   layers.NumberOfLayers = self->GetNumberOfLayers();
   layers.GrowthRatio = self->GetGrowthRatio();
   layers.TotalThickness = self->GetTotalThickness();
-  // Automatic: the stack on each side half a surface edge high. Higher
-  // stacks (above about 0.6 edge on the cone) leave TetGen slivers against
-  // the closure at S's border.
-  double sum = 0.0, grow = 1.0;
-  for (int k = 0; k < layers.NumberOfLayers; ++k, grow *= layers.GrowthRatio)
+  layers.FirstLayerThickness = self->GetFirstLayerThickness();
+  if (layers.TotalThickness <= 0.0 && layers.FirstLayerThickness <= 0.0)
   {
-    sum += grow;
+    // Automatic: the stack on each side half a surface edge high (the core
+    // derives the first layer from it). Higher stacks (above about 0.6 edge
+    // on the cone) leave TetGen slivers against the closure at S's border.
+    layers.TotalThickness = 0.5 * edge;
   }
-  layers.FirstLayerThickness =
-    self->GetFirstLayerThickness() > 0.0 ? self->GetFirstLayerThickness() : 0.5 * edge / sum;
   return true;
 }
 
@@ -211,6 +209,12 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
       }
       else if (region->GetValue(c) == 2 || shape != ar::CellShape::Tetrahedron)
       {
+        if (region->GetValue(c) == 2)
+        {
+          (shape == ar::CellShape::Wedge       ? sums.NewPrisms
+              : shape == ar::CellShape::Pyramid ? sums.NewPyramids
+                                                : sums.NewLayerTetrahedra) += 1.0;
+        }
         // layer cells: new prism layers, kept non-tetrahedral (near-wall) cells
         sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, q.AspectRatio);
         sums.LayerMinDihedral = std::min(sums.LayerMinDihedral, q.MinDihedralAngle);
@@ -238,6 +242,9 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
     sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, s.LayerMaxAspectRatio);
     sums.LayerMinDihedral = std::min(sums.LayerMinDihedral, s.LayerMinDihedral);
     sums.LayerCells += s.LayerCells;
+    sums.NewPrisms += s.NewPrisms;
+    sums.NewPyramids += s.NewPyramids;
+    sums.NewLayerTetrahedra += s.NewLayerTetrahedra;
     sums.NonPositiveJacobian += s.NonPositiveJacobian;
   }
   output->GetCellData()->AddArray(minAngle);
@@ -258,6 +265,44 @@ void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmb
   field("MaxAspectRatioLayerCells", sums.LayerMaxAspectRatio);
   field("MinDihedralAngleLayerCells", sums.LayerCells > 0.0 ? sums.LayerMinDihedral : 0.0);
   field("NonPositiveJacobianCells", sums.NonPositiveJacobian);
+  field("LayerCells", sums.NewPrisms + sums.NewPyramids + sums.NewLayerTetrahedra);
+  field("Prisms", sums.NewPrisms);
+  field("Pyramids", sums.NewPyramids);
+  field("LayerClosureTetrahedra", sums.NewLayerTetrahedra);
+}
+
+void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
+{
+  double sums[7] = { q.NewCells, q.NewDihedralSum, q.NonPositiveJacobian, q.LayerCells, q.NewPrisms,
+    q.NewPyramids, q.NewLayerTetrahedra };
+  double maxima[4] = { -q.NewMinDihedral, q.NewMaxAspectRatio, q.LayerMaxAspectRatio, -q.LayerMinDihedral };
+  vtkARMeshKernels::AllReduceSum(sums, 7);
+  vtkARMeshKernels::AllReduceMax(maxima, 4);
+  q.NewCells = sums[0];
+  q.NewDihedralSum = sums[1];
+  q.NonPositiveJacobian = sums[2];
+  q.LayerCells = sums[3];
+  q.NewPrisms = sums[4];
+  q.NewPyramids = sums[5];
+  q.NewLayerTetrahedra = sums[6];
+  q.NewMinDihedral = -maxima[0];
+  q.NewMaxAspectRatio = maxima[1];
+  q.LayerMaxAspectRatio = maxima[2];
+  q.LayerMinDihedral = -maxima[3];
+}
+
+void vtkEmbeddedRemeshAddLayerFields(
+  vtkUnstructuredGrid* output, const ar::PrismLayerOptions& layers, double limitedColumns)
+{
+  std::vector<double> z;
+  std::string unused;
+  const bool on = layers.NumberOfLayers > 0 && ar::PrismLayerDistances(layers, z, unused);
+  for (const auto& [name, value] : { std::make_pair("LimitedColumns", limitedColumns),
+         std::make_pair("LayerStackHeight", on ? z.back() : 0.0),
+         std::make_pair("FirstLayerThicknessUsed", on ? z[1] : 0.0) })
+  {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -656,7 +701,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   region->SetName("Region"); // 0 kept, 1 new tetrahedron of the refill, 2 layer cell
   layer->SetName("Layer");   // layer cells: k, 0 next to S; others -1
   side->SetName("LayerSide"); // layer cells: +1 on S's normal side, -1 on the other; others 0
-  vtkIdType newCount = 0, layerCount = 0, closureCount = 0;
+  vtkIdType newCount = 0;
   auto addCell = [&](int type, vtkIdType n, const vtkIdType* pts, vtkIdType src, int reg, int k, int s) {
     output->InsertNextCell(type, n, pts);
     sourceCell.push_back(src);
@@ -664,7 +709,6 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     layer->InsertNextValue(k);
     side->InsertNextValue(s);
     newCount += reg > 0 ? 1 : 0;
-    layerCount += reg == 2 ? 1 : 0;
   };
   const bool layered = !result.TetrahedronLayer.empty();
   for (vtkIdType t = 0; t < nTets; ++t)
@@ -673,7 +717,6 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     const vtkIdType pts[4] = { v[0], v[1], v[2], v[3] };
     const std::int64_t src = result.SourceCell[t];
     const int k = layered ? result.TetrahedronLayer[t] : -1;
-    closureCount += k >= 0 ? 1 : 0;
     addCell(VTK_TETRA, 4, pts, src >= 0 ? tetCell[src] : -1, src >= 0 ? 0 : k >= 0 ? 2 : 1, k,
       k >= 0 ? result.TetrahedronSide[t] : 0);
   }
@@ -920,18 +963,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("SurfaceTriangles", static_cast<double>(result.Surface.size() / 3));
   field("SurfaceTrianglesAtLockedCells", static_cast<double>(result.SurfaceTrianglesAtLockedCells));
   field("SurfaceEdgeLength", edge);
-  field("LayerCells", static_cast<double>(layerCount));
-  field("Prisms", static_cast<double>(result.Prisms.size() / 6));
-  field("Pyramids", static_cast<double>(result.Pyramids.size() / 5));
-  field("LayerClosureTetrahedra", static_cast<double>(closureCount));
-  field("LimitedColumns", static_cast<double>(result.LimitedColumns));
-  field("LayerStackHeight", result.LayerStackHeight);
-  {
-    std::vector<double> z;
-    std::string unused;
-    field("FirstLayerThicknessUsed",
-      options.Layers.NumberOfLayers > 0 && ar::PrismLayerDistances(options.Layers, z, unused) ? z[1] : 0.0);
-  }
+  vtkEmbeddedRemeshAddLayerFields(output, options.Layers, static_cast<double>(result.LimitedColumns));
   vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("SecondsInput", secondsInput);
   field("SecondsSurfaceMeshing", secondsSurface);
@@ -1518,7 +1550,6 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   side->SetName("LayerSide");
   double kept = 0.0;                // kept cells
   double volumes[2] = { 0.0, 0.0 }; // before, after
-  double layerCounts[4] = { 0.0, 0.0, 0.0, 0.0 }; // layer cells, prisms, pyramids, closure tetrahedra
   auto addCell = [&](int type, const vtkIdType* pts, vtkIdType src, int k, int s) {
     const ar::CellShape shape = type == VTK_TETRA ? ar::CellShape::Tetrahedron
       : type == VTK_WEDGE                         ? ar::CellShape::Wedge
@@ -1536,11 +1567,6 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     cellSource.push_back(src);
     volumes[1] += ar::CellVolume(shape, x);
     kept += src >= 0 ? 1.0 : 0.0;
-    if (k >= 0)
-    {
-      layerCounts[0] += 1.0;
-      layerCounts[type == VTK_WEDGE ? 1 : type == VTK_PYRAMID ? 2 : 3] += 1.0;
-    }
   };
   auto addTet = [&](const vtkIdType pts[4], vtkIdType src, int k = -1, int s = 0) {
     addCell(VTK_TETRA, pts, src, k, s);
@@ -1683,46 +1709,22 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   // ---- Field data, equal on every rank and to the serial run's.
   double surfaceTriangles = static_cast<double>(result.Surface.size() / 3);
   double removedNodes = static_cast<double>(result.RemovedNodes);
-  double sums[4] = { quality.NewCells, quality.NewDihedralSum, quality.NonPositiveJacobian, quality.LayerCells };
-  double maxima[4] = { -quality.NewMinDihedral, quality.NewMaxAspectRatio, quality.LayerMaxAspectRatio,
-    -quality.LayerMinDihedral };
   double limited = static_cast<double>(result.LimitedColumns);
+  vtkEmbeddedRemeshReduceQuality(quality);
   vtkARMeshKernels::AllReduceSum(&kept, 1);
-  vtkARMeshKernels::AllReduceSum(sums, 4);
-  vtkARMeshKernels::AllReduceMax(maxima, 4);
-  vtkARMeshKernels::AllReduceSum(layerCounts, 4);
   vtkARMeshKernels::AllReduceSum(&limited, 1);
   vtkARMeshKernels::AllReduceSum(volumes, 2);
   vtkARMeshKernels::AllReduceSum(&surfaceTriangles, 1);
   vtkARMeshKernels::AllReduceSum(&removedNodes, 1);
-  quality.NewCells = sums[0];
-  quality.NewDihedralSum = sums[1];
-  quality.NonPositiveJacobian = sums[2];
-  quality.NewMinDihedral = -maxima[0];
-  quality.NewMaxAspectRatio = maxima[1];
-  quality.LayerMaxAspectRatio = maxima[2];
-  quality.LayerCells = sums[3];
-  quality.LayerMinDihedral = -maxima[3];
   auto field = [&](const char* name, double value) {
     output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
   };
   field("KeptCells", kept);
-  field("NewCells", quality.NewCells + layerCounts[0]);
+  field("NewCells", quality.NewCells + quality.NewPrisms + quality.NewPyramids + quality.NewLayerTetrahedra);
   field("RemovedNodes", removedNodes);
   field("SurfaceTriangles", surfaceTriangles);
   field("SurfaceEdgeLength", edge);
-  field("LayerCells", layerCounts[0]);
-  field("Prisms", layerCounts[1]);
-  field("Pyramids", layerCounts[2]);
-  field("LayerClosureTetrahedra", layerCounts[3]);
-  field("LimitedColumns", limited);
-  {
-    std::vector<double> z;
-    std::string unused;
-    const bool on = options.Layers.NumberOfLayers > 0 && ar::PrismLayerDistances(options.Layers, z, unused);
-    field("LayerStackHeight", on ? z.back() : 0.0);
-    field("FirstLayerThicknessUsed", on ? z[1] : 0.0);
-  }
+  vtkEmbeddedRemeshAddLayerFields(output, options.Layers, limited);
   vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("RelativeVolumeChange", volumes[0] > 0.0 ? (volumes[1] - volumes[0]) / volumes[0] : 0.0);
   vtkNew<vtkCellArray> faces;

@@ -9,6 +9,10 @@
 
 class vtkIntArray;
 class vtkUnstructuredGrid;
+namespace ar
+{
+struct PrismLayerOptions;
+}
 
 /// Quality sums over this process's output cells, for the field data.
 struct vtkEmbeddedRemeshQuality
@@ -20,6 +24,9 @@ struct vtkEmbeddedRemeshQuality
   double LayerMaxAspectRatio = 0.0; ///< layer cells: new prism layers (Region 2) and kept non-tetrahedral 3-D cells (thin by design)
   double LayerMinDihedral = 180.0;
   double LayerCells = 0.0;
+  double NewPrisms = 0.0;          ///< Region 2 (new layer cells) by kind: prisms,
+  double NewPyramids = 0.0;        ///< pyramids,
+  double NewLayerTetrahedra = 0.0; ///< closure tetrahedra
   double NonPositiveJacobian = 0.0; ///< 3-D cells with a corner Jacobian <= 0
 };
 
@@ -32,7 +39,16 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
 /// The quality part of the field data: MinDihedralAngleNew,
 /// MeanDihedralAngleNew, MaxAspectRatioNew (Region 1), MaxAspectRatioLayerCells,
 /// MinDihedralAngleLayerCells,
-/// NonPositiveJacobianCells.
+/// NonPositiveJacobianCells, and the new layer cells: LayerCells, Prisms,
+/// Pyramids, LayerClosureTetrahedra.
 void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmbeddedRemeshQuality& sums);
+
+/// Under MPI: the sums, minima and maxima over all ranks, on every rank.
+void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& sums);
+
+/// The prism stack's field data: LimitedColumns, LayerStackHeight and
+/// FirstLayerThicknessUsed (0 without layers), from the options used.
+void vtkEmbeddedRemeshAddLayerFields(
+  vtkUnstructuredGrid* output, const ar::PrismLayerOptions& layers, double limitedColumns);
 
 #endif

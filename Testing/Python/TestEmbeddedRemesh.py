@@ -118,11 +118,7 @@ validate("oblique shock, FullDomain", oblique, plane, "FullDomain")
 
 # ---- The OpenFOAM cone with QuadricFit's cone.
 cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
-csrc = artest.fetch(cone)
-sensor = ShockSensor(Input=cone, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"],
-                     Gamma=artest.field(csrc, "Gamma")[0])
-cclusters = FeatureCluster(Input=sensor, SensorArray=["POINTS", "NormalMach"], SensorRange=[0.8, 1.2])
-cfit = QuadricFit(Input=OutputPort(cclusters, 1), Domain=cone, Template="Cone", ClusterId=0)
+cfit = artest.cone_shock_fit(cone)
 validate("cone, LocalCavity", cone, cfit, "LocalCavity")
 
 

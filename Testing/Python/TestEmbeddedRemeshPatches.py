@@ -44,11 +44,7 @@ check(all(n > 0 for n in counts.values()), "the cone's boundary in 5 patches: %s
 source = PVTrivialProducer()
 source.GetClientSideObject().SetOutput(mb)
 
-csrc = artest.fetch(cone)
-sensor = ShockSensor(Input=cone, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"],
-                     Gamma=artest.field(csrc, "Gamma")[0])
-clusters = FeatureCluster(Input=sensor, SensorArray=["POINTS", "NormalMach"], SensorRange=[0.8, 1.2])
-fit = QuadricFit(Input=OutputPort(clusters, 1), Domain=cone, Template="Cone", ClusterId=0)
+fit = artest.cone_shock_fit(cone)
 adapted = EmbeddedRemesh(Input=source, Surfaces=[fit])
 adapted.UpdatePipeline()
 out = servermanager.Fetch(adapted)

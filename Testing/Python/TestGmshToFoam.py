@@ -162,11 +162,7 @@ run_case("hybrid", H, {"hexahedra": 1, "prisms": 1, "pyramids": 1, "tetrahedra":
 
 # ---- The cone's mesh adapted by EmbeddedRemesh: the solver takes it.
 cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
-csrc = servermanager.Fetch(cone)
-gamma = csrc.GetFieldData().GetArray("Gamma").GetValue(0)
-sensor = ShockSensor(Input=cone, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"], Gamma=gamma)
-clusters = FeatureCluster(Input=sensor, SensorArray=["POINTS", "NormalMach"], SensorRange=[0.8, 1.2])
-fit = QuadricFit(Input=OutputPort(clusters, 1), Domain=cone, Template="Cone", ClusterId=0)
+fit = artest.cone_shock_fit(cone)
 adapted = EmbeddedRemesh(Input=cone, Surfaces=[fit])
 adapted.UpdatePipeline()
 A = servermanager.Fetch(adapted)

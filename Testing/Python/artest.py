@@ -41,6 +41,10 @@ def load_plugin(namespace):
         print("AR_PLUGIN does not name the built plugin: %r" % PLUGIN)
         sys.exit(2)
     LoadPlugin(PLUGIN, remote=False, ns=namespace)
+    _plugin[0] = namespace
+
+
+_plugin = [None]  # the namespace holding the plugin's proxies (load_plugin's)
 
 
 def say(text):
@@ -405,3 +409,15 @@ def openfoam_multiblock(volume, classify, patches):
     mb.SetBlock(1, boundary)
     mb.GetMetaData(1).Set(vtkCompositeDataSet.NAME(), "boundary")
     return mb, names
+
+
+def cone_shock_fit(cone):
+    """QuadricFit's cone on the cone case's shock (proxy `cone`, the reader):
+    ShockSensor -> FeatureCluster on NormalMach 0.8-1.2 -> QuadricFit (Cone)."""
+    from paraview.simple import OutputPort
+    ns = _plugin[0]
+    ShockSensor, FeatureCluster, QuadricFit = ns["ShockSensor"], ns["FeatureCluster"], ns["QuadricFit"]
+    sensor = ShockSensor(Input=cone, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"],
+                         Gamma=field(fetch(cone), "Gamma")[0])
+    clusters = FeatureCluster(Input=sensor, SensorArray=["POINTS", "NormalMach"], SensorRange=[0.8, 1.2])
+    return QuadricFit(Input=OutputPort(clusters, 1), Domain=cone, Template="Cone", ClusterId=0)

@@ -37,6 +37,18 @@ def say(text):
     sys.stdout.flush()
 
 
+def points_and_cells(points, cells):
+    """vtkPoints and a vtkCellArray from numpy arrays (cells: one row of ids
+    per cell), built in bulk: a per-cell loop would dominate at 5e6 cells."""
+    vp = vtkPoints()
+    vp.SetData(numpy_to_vtk(points, deep=1))
+    ca = vtkCellArray()
+    k = cells.shape[1]
+    ca.SetData(numpy_to_vtkIdTypeArray(np.arange(0, k * len(cells) + 1, k, dtype=np.int64), deep=1),
+               numpy_to_vtkIdTypeArray(cells.ravel().astype(np.int64), deep=1))
+    return vp, ca
+
+
 def kuhn_cube(n):
     """The unit cube cut into n^3 cubes of 6 Kuhn tetrahedra each (positive volumes)."""
     g = np.arange(n + 1) / n
@@ -63,12 +75,8 @@ def kuhn_cube(n):
     flip = vol < 0
     tets[flip, 1], tets[flip, 2] = tets[flip, 2].copy(), tets[flip, 1].copy()
     grid = vtkUnstructuredGrid()
-    vp = vtkPoints()
-    vp.SetData(numpy_to_vtk(points, deep=1))
+    vp, cells = points_and_cells(points, tets)
     grid.SetPoints(vp)
-    cells = vtkCellArray()
-    cells.SetData(numpy_to_vtkIdTypeArray(np.arange(0, 4 * len(tets) + 1, 4, dtype=np.int64), deep=1),
-                  numpy_to_vtkIdTypeArray(tets.ravel().astype(np.int64), deep=1))
     grid.SetCells(VTK_TETRA, cells)
     p = numpy_to_vtk(1.0 + 0.5 * np.tanh(40.0 * (points[:, 2] - 0.5 - 0.2 * (points[:, 0] - 0.5))), deep=1)
     p.SetName("p")
@@ -84,12 +92,8 @@ def plane(lo, hi, h):
     a = (np.arange(m)[None, :] + (m + 1) * np.arange(m)[:, None]).ravel()
     tris = np.vstack([np.column_stack([a, a + 1, a + m + 2]), np.column_stack([a, a + m + 2, a + m + 1])])
     poly = vtkPolyData()
-    vp = vtkPoints()
-    vp.SetData(numpy_to_vtk(pts, deep=1))
+    vp, cells = points_and_cells(pts, tris)
     poly.SetPoints(vp)
-    cells = vtkCellArray()
-    cells.SetData(numpy_to_vtkIdTypeArray(np.arange(0, 3 * len(tris) + 1, 3, dtype=np.int64), deep=1),
-                  numpy_to_vtkIdTypeArray(tris.ravel().astype(np.int64), deep=1))
     poly.SetPolys(cells)
     return poly
 

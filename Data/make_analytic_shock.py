@@ -216,6 +216,12 @@ def build_grid(points, tets, shock):
     grid.GetPointData().SetActiveScalars("p")
     grid.GetPointData().SetActiveVectors("U")
 
+    add_field_data(grid, shock)
+    return grid
+
+
+def add_field_data(grid, shock):
+    """The shock's parameters (ObliqueShock.field_data) as field data."""
     for nm, val in shock.field_data().items():
         arr = vtkDoubleArray()
         arr.SetName(nm)
@@ -225,7 +231,6 @@ def build_grid(points, tets, shock):
         for i, v in enumerate(val):
             arr.SetValue(i, float(v))
         grid.GetFieldData().AddArray(arr)
-    return grid
 
 
 def write_vtu(grid, path):

@@ -37,11 +37,11 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "Testing", "Python"))
 
 from analytic_shock import ObliqueShock  # noqa: E402
-from make_analytic_shock import _vtk_array, gmsh_mesh, read_back, write_vtu  # noqa: E402
+from make_analytic_shock import _vtk_array, add_field_data, gmsh_mesh, read_back, write_vtu  # noqa: E402
 from artest import corner_jacobians  # noqa: E402
 
 from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
-from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
 from vtkmodules.vtkCommonDataModel import (  # noqa: E402
     VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_WEDGE, vtkCellArray, vtkUnstructuredGrid)
 
@@ -119,14 +119,7 @@ def build_grid(points, blocks, shock):
         grid.GetCellData().AddArray(_vtk_array(nm, cf[nm]))
     grid.GetPointData().SetActiveScalars("p")
     grid.GetPointData().SetActiveVectors("U")
-    for nm, val in shock.field_data().items():
-        arr = vtkDoubleArray()
-        arr.SetName(nm)
-        val = np.atleast_1d(np.asarray(val, dtype=float))
-        arr.SetNumberOfTuples(val.size)
-        for i, v in enumerate(val):
-            arr.SetValue(i, float(v))
-        grid.GetFieldData().AddArray(arr)
+    add_field_data(grid, shock)
     return grid
 
 

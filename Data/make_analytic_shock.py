@@ -165,7 +165,7 @@ def gmsh_mesh(geo_text, types=None):
     folder; returns read_msh22's points and blocks."""
     gmsh = shutil.which("gmsh")
     if gmsh is None:
-        raise RuntimeError("gmsh not found on PATH")
+        raise RuntimeError("gmsh not found on PATH: apt-get install gmsh (the README's set-up installs it)")
     tmp = tempfile.mkdtemp(prefix="ar_gmsh_")
     try:
         geo = os.path.join(tmp, "mesh.geo")

@@ -19,12 +19,20 @@ build="${AR_BUILD_DIR:-$root/build}"
 output="${AR_OUTPUT_DIR:-$root/AdaptiveRedistribution-output}"
 jobs="${AR_JOBS:-$(nproc)}"
 
-# Everything the build, the tests and the pictures need (the ParaView SDK's
-# CMake configuration asks for the -dev packages of what ParaView was built with).
+# Everything the build, the tests and the pictures need, one line per group
+# (the README's set-up section says the same). The ParaView SDK's CMake
+# configuration asks for the -dev packages of what ParaView was built with.
 packages=(
+  # the build tools
   git cmake ninja-build g++ make ca-certificates pkg-config
+  # ParaView (pvpython, pvbatch, pvserver, the GUI) and its SDK, numpy and matplotlib for the scripts
   paraview paraview-dev python3-paraview python3-numpy python3-matplotlib
+  # the core's libraries: CGAL, TetGen (library and program), Eigen, Boost; GoogleTest
   libcgal-dev libgmp-dev libmpfr-dev libtet1.5-dev tetgen libeigen3-dev libboost-dev libgtest-dev
+  # the programs the tests and data scripts call: gmsh (reads back our .msh, meshes the analytic
+  # cases), OpenFOAM v1912 (gmshToFoam, checkMesh, blockMesh, the solvers) and its tutorials
+  gmsh openfoam openfoam-examples
+  # the rest of the ParaView SDK's configuration (Qt, VTK's third-party libraries, MPI, X)
   qtbase5-dev qttools5-dev libqt5svg5-dev libqt5x11extras5-dev qtxmlpatterns5-dev-tools
   libutfcpp-dev libdouble-conversion-dev libgl2ps-dev libglew-dev libnetcdf-dev libhdf5-openmpi-dev
   libavformat-dev libavcodec-dev libswscale-dev libavutil-dev libtheora-dev liblz4-dev liblzma-dev
@@ -32,6 +40,7 @@ packages=(
   mpi-default-dev mpi-default-bin python3-mpi4py
   libx11-dev libgl-dev libxt-dev libpugixml-dev libjsoncpp-dev libfmt-dev libprotobuf-dev protobuf-compiler
   libcgns-dev libexodusii-dev
+  # a virtual display for pvbatch's pictures and the GUI tests
   xvfb xauth
 )
 missing=()

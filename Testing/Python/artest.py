@@ -98,6 +98,19 @@ def cell_centroids(dataset):
     return centroids, longest
 
 
+def require_program(program, package):
+    """The full path of `program`. Every program a test calls is installed by
+    the README's set-up command, so a missing one is a failure, never a skip:
+    the test stops (exit 1) with the Debian package that provides it."""
+    import shutil
+    found = shutil.which(program)
+    if found is None:
+        say("FAIL `%s` is not installed: apt-get install %s (the README's set-up command, "
+            "bash Plugin/Scripts/setup.sh test, installs it)" % (program, package))
+        sys.exit(1)
+    return found
+
+
 def child_environment():
     """The environment for the pvbatch / mpiexec children of a test driver.
     pvpython initializes MPI as a singleton: its OMPI_/PMIX_ variables would
@@ -139,10 +152,19 @@ def fit_plane(points, weights=None):
     return vt[-1], c
 
 
+def angle_deg(a, b):
+    """Angle in degrees between vectors a and b (or row by row between two
+    (n, 3) arrays), as atan2(|a x b|, a . b): accurate to rounding at every
+    angle, where arccos of the cosine cannot resolve less than ~1e-6 degree
+    next to 0 and 180 (nor arcsin next to 90)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return np.degrees(np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.einsum("...i,...i->...", a, b)))
+
+
 def angle_between_planes(n1, n2):
-    """Angle in degrees between two planes given by their normals."""
-    c = abs(np.dot(n1, n2)) / (np.linalg.norm(n1) * np.linalg.norm(n2))
-    return np.degrees(np.arccos(min(1.0, c)))
+    """Angle in degrees (0 to 90) between two planes given by their normals."""
+    a = angle_deg(n1, n2)
+    return np.minimum(a, 180.0 - a)
 
 
 def grid_of(points, cells):
@@ -305,8 +327,7 @@ def dihedral_angles(P, cells, t):
     for i in range(len(fs)):
         for j in range(i + 1, len(fs)):
             if len(set(fs[i]) & set(fs[j])) == 2:  # the two faces share an edge
-                c = -np.einsum("ij,ij->i", normals[i], normals[j])
-                out.append(np.degrees(np.arccos(np.clip(c, -1, 1))))
+                out.append(angle_deg(-normals[i], normals[j]))
     return np.column_stack(out)
 
 
@@ -323,9 +344,7 @@ def polygon_angles(P, poly):
     out = []
     for k in range(n):
         a, b, c = P[poly[:, (k - 1) % n]], P[poly[:, k]], P[poly[:, (k + 1) % n]]
-        u, v = a - b, c - b
-        cos = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
-        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+        out.append(angle_deg(a - b, c - b))
     return np.column_stack(out)
 
 

@@ -1,8 +1,8 @@
-"""OpenFOAM from the tests: find its bashrc (or skip the test), lay out a
-minimal case, run a utility in it, read polyMesh/boundary.
+"""OpenFOAM from the tests: find its bashrc and its tutorials (a test fails,
+naming the package, where they are missing: the README's set-up installs
+both), lay out a minimal case, run a utility in it, read polyMesh/boundary.
 
-AR_OPENFOAM_BASHRC overrides where the bashrc is looked for (e.g. a path
-that does not exist, to try the skip).
+AR_OPENFOAM_BASHRC overrides where the bashrc is looked for.
 """
 import glob
 import os
@@ -25,17 +25,33 @@ CASE_FILES = {
 }
 
 
-def bashrc_or_skip(what):
-    """OpenFOAM's bashrc; when there is none, says the test is skipped and
-    exits 77 (ctest's SKIP_RETURN_CODE). `what`: what cannot be checked."""
+TUTORIALS = "/usr/share/doc/openfoam-examples/examples"
+
+
+def bashrc(what):
+    """OpenFOAM's bashrc. Where there is none the test fails (exit 1) with
+    the package to install. `what`: what needs OpenFOAM."""
     candidates = ["/usr/share/openfoam/etc/bashrc"] + sorted(glob.glob("/usr/lib/openfoam/*/etc/bashrc"))
     if os.environ.get("AR_OPENFOAM_BASHRC"):
         candidates = [os.environ["AR_OPENFOAM_BASHRC"]]
     found = next((b for b in candidates if os.path.exists(b)), None)
     if found is None:
-        artest.say("SKIPPED: OpenFOAM is not installed (none of %s): %s cannot be checked" % (candidates, what))
-        sys.exit(77)
+        artest.say("FAIL OpenFOAM is not installed (none of %s), and %s needs it: apt-get install openfoam "
+                   "(the README's set-up command installs it)" % (candidates, what))
+        sys.exit(1)
     return found
+
+
+def tutorial(relative):
+    """The directory of one of OpenFOAM's tutorials (package openfoam-examples),
+    e.g. "compressible/rhoCentralFoam/wedge15Ma5"; the test fails (exit 1)
+    naming the package where it is missing."""
+    path = os.path.join(TUTORIALS, relative)
+    if not os.path.isdir(path):
+        artest.say("FAIL OpenFOAM's tutorial %s is not installed: apt-get install openfoam-examples "
+                   "(the README's set-up command installs it)" % path)
+        sys.exit(1)
+    return path
 
 
 def make_case(case):

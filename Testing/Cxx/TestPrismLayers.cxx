@@ -404,8 +404,11 @@ void ExpectRightPrisms(const std::vector<double>& pts, const std::vector<std::in
       const double* b = &pts[3 * prisms[6 * c + k + 3]];
       const double e[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
       const double len = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-      const double cosine = std::abs(e[0] * TiltedNormal[0] + e[1] * TiltedNormal[1] + e[2] * TiltedNormal[2]) / len;
-      const double angle = std::acos(std::min(1.0, cosine)) * 180.0 / M_PI;
+      // atan2(|e x n|, |e . n|): well-conditioned next to 0 degrees, where acos is not.
+      const double* n = TiltedNormal.data();
+      const double cr[3] = { e[1] * n[2] - e[2] * n[1], e[2] * n[0] - e[0] * n[2], e[0] * n[1] - e[1] * n[0] };
+      const double angle = std::atan2(std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]),
+                             std::abs(e[0] * n[0] + e[1] * n[1] + e[2] * n[2])) * 180.0 / M_PI;
       const double want = first * std::pow(growth, layer[c]);
       worstAngle = std::max(worstAngle, angle);
       worstThickness = std::max(worstThickness, std::abs(len / want - 1.0));

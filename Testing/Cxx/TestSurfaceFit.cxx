@@ -37,10 +37,18 @@ V Unit(const V& a)
   const double n = std::sqrt(Dot(a, a));
   return { a[0] / n, a[1] / n, a[2] / n };
 }
+// The angle between two vectors as atan2(|a x b|, a . b), accurate to rounding
+// at every angle (acos of a cosine next to 1 cannot resolve ~1e-6 degree).
+double VectorAngleDeg(const V& a, const V& b)
+{
+  const V c = Cross(a, b);
+  return std::atan2(std::sqrt(Dot(c, c)), Dot(a, b)) * 180.0 / Pi;
+}
+// The angle between two lines (0 to 90 degrees), whatever the directions' signs.
 double AngleDeg(const V& a, const V& b)
 {
-  const double c = std::abs(Dot(Unit(a), Unit(b)));
-  return std::acos(std::min(1.0, c)) * 180.0 / Pi;
+  const double angle = VectorAngleDeg(a, b);
+  return std::min(angle, 180.0 - angle);
 }
 double Distance(const V& a, const V& b)
 {
@@ -213,7 +221,7 @@ double MinimumAngle(const ar::SurfaceMesh& m)
     for (int c = 0; c < 3; ++c)
     {
       const V a = Add(p[(c + 1) % 3], p[c], -1.0), b = Add(p[(c + 2) % 3], p[c], -1.0);
-      worst = std::min(worst, std::acos(Dot(Unit(a), Unit(b))) * 180.0 / Pi);
+      worst = std::min(worst, VectorAngleDeg(a, b));
     }
   }
   return worst;

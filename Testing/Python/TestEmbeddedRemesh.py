@@ -63,8 +63,7 @@ def min_dihedral(P, T):
         # the dihedral angle at the edge opposite to faces f and g
         nf = np.cross(P[T[:, FACES[f][1]]] - P[T[:, FACES[f][0]]], P[T[:, FACES[f][2]]] - P[T[:, FACES[f][0]]])
         ng = np.cross(P[T[:, FACES[g][1]]] - P[T[:, FACES[g][0]]], P[T[:, FACES[g][2]]] - P[T[:, FACES[g][0]]])
-        cos = -np.einsum("ij,ij->i", nf, ng) / (np.linalg.norm(nf, axis=1) * np.linalg.norm(ng, axis=1))
-        worst = np.minimum(worst, np.degrees(np.arccos(np.clip(cos, -1, 1))))
+        worst = np.minimum(worst, artest.angle_deg(-nf, ng))
     return worst
 
 

@@ -205,7 +205,7 @@ def triangle_min_angle(x):
     worst = 180.0
     for k in range(3):
         a, b = x[(k + 1) % 3] - x[k], x[(k + 2) % 3] - x[k]
-        worst = min(worst, np.degrees(np.arccos(np.clip(a @ b / np.linalg.norm(a) / np.linalg.norm(b), -1, 1))))
+        worst = min(worst, artest.angle_deg(np.append(a, 0.0), np.append(b, 0.0)))
     return worst
 
 

@@ -287,8 +287,7 @@ Sp = np.unique(r["S"])
 dplane = np.abs((P[Sp] - o) @ n).max()
 check(dplane < 1e-9, "planar: the embedded surface lies on the fitted plane (%.1e)" % dplane)
 lateral = np.stack([P[W[:, 3 + i]] - P[W[:, i]] for i in range(3)], axis=1)  # (m, 3 edges, xyz)
-cos = np.abs(lateral @ n) / np.linalg.norm(lateral, axis=2)
-tilt = np.degrees(np.arccos(np.clip(cos, -1, 1))).max()
+tilt = artest.angle_between_planes(lateral, np.broadcast_to(n, lateral.shape)).max()
 check(tilt < 5.0, "planar: every prism is right: its lateral edges within 5 deg of the plane's normal (max %.2e deg)"
       % tilt)
 
@@ -348,8 +347,7 @@ check(along.min() > 0, "cone: every lateral edge of the %d prisms points to its 
       "(smallest cosine with the triangle's normal %.3f)" % (len(W), along.min()))
 ntop = np.cross(P[W[:, 4]] - P[W[:, 3]], P[W[:, 5]] - P[W[:, 3]])
 nbase = np.cross(P[r["root"][W[:, 1]]] - P[r["root"][W[:, 0]]], P[r["root"][W[:, 2]]] - P[r["root"][W[:, 0]]])
-turn = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", ntop, nbase)
-                                    / (np.linalg.norm(ntop, axis=1) * np.linalg.norm(nbase, axis=1)), -1, 1)))
+turn = artest.angle_deg(ntop, nbase)
 check(turn.max() < 60.0, "cone: every prism's top triangle within 60 deg of its S triangle's normal (max %.1f deg, "
       "layer %d)" % (turn.max(), layer[pidx][np.argmax(turn)]))
 # Coverage of the fitted cone away from the domain boundary.

@@ -113,7 +113,7 @@ def triangle_normals(surface):
 
 
 n, area = triangle_normals(sheet)
-tilt = np.degrees(np.arcsin(np.clip(abs(n[:, 2]), 0, 1)))
+tilt = 90.0 - artest.angle_between_planes(n, np.broadcast_to([0.0, 0.0, 1.0], n.shape))
 check(np.average(tilt, weights=area) < 5.0,
       "wedge: the sheet stands orthogonal to the symmetry planes (area-weighted mean tilt %.2f deg)" % np.average(tilt, weights=area))
 # A trim distance: the sheet is cut 0.002 short of each plane and extended
@@ -164,7 +164,7 @@ n, area = triangle_normals(csheet)
 P3 = np.asarray(csheet.Points)
 t = np.asarray(csheet.VTKObject.GetPolys().GetConnectivityArray()).reshape(-1, 3)
 near = P3[t][:, :, 2].min(axis=1) < 1e-9
-tilt = np.degrees(np.arcsin(np.clip(abs(n[near, 2]), 0, 1)))
+tilt = 90.0 - artest.angle_between_planes(n[near], np.broadcast_to([0.0, 0.0, 1.0], n[near].shape))
 check(near.sum() > 10 and np.average(tilt, weights=area[near]) < 10.0,
       "cone: %d triangles reach the symmetry plane, standing on it at %.1f deg from orthogonal (area-weighted mean)"
       % (near.sum(), np.average(tilt, weights=area[near])))

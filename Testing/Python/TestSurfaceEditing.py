@@ -271,17 +271,19 @@ check(len(on_plane) == NX + 1 and np.all(np.isin(on_plane, bnd)) and np.all(s[bn
 # Strip triangles contain the normal direction (meet the plane orthogonally).
 tn = np.cross(x[t[flag == 1, 1]] - x[t[flag == 1, 0]], x[t[flag == 1, 2]] - x[t[flag == 1, 0]])
 tn /= np.linalg.norm(tn, axis=1)[:, None]
-dev = np.degrees(np.arcsin(np.abs(tn @ N).max()))
+dev = np.abs(90.0 - artest.angle_deg(tn, np.broadcast_to(N, tn.shape))).max()
 check(dev < 1e-6, "ExtendToPlane: strip triangles orthogonal to the plane (max deviation %.1e deg)" % dev)
 # Columns: each strip point lies on the normal line of its boundary point.
 tags = np.asarray(out.PointData["PointTag"])
 new = np.arange(tilted.GetNumberOfPoints(), len(x))
 src_x = xt[tags[new]]
 d = x[new] - src_x
-ang = np.degrees(np.arccos(np.clip((d @ N) / np.linalg.norm(d, axis=1), -1, 1)))
-check(len(new) > 0 and np.abs(ang - 180.0).max() < 1e-6,
+# The angle between d and -N, measured from the cross product (arccos of a
+# cosine next to -1 cannot resolve 1e-6 degree).
+ang = artest.angle_deg(d, np.broadcast_to(-N, d.shape))
+check(len(new) > 0 and ang.max() < 1e-6,
       "ExtendToPlane: %d strip points on their boundary point's normal line, point arrays copied (max angle %.1e deg)"
-      % (len(new), np.abs(ang - 180.0).max()))
+      % (len(new), ang.max()))
 rows = int(np.ceil(D / h))
 check(len(new) == rows * (NX + 1), "ExtendToPlane: %d rows of height %.4f <= mean edge %.4f" % (rows, D / rows, h))
 owner = np.asarray(out.CellData["CellTag"])[flag == 1]

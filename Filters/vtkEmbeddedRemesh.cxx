@@ -5,6 +5,7 @@
 
 #include "ARCavity.h"
 #include "ARCellQuality.h"
+#include "ARMeshSize.h"
 #include "ARPrismLayers.h"
 #include "ARSurfaceRemesh.h"
 #include "ARTetGeometry.h"
@@ -291,6 +292,42 @@ void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
   q.LayerMinDihedral = -maxima[3];
 }
 
+double vtkEmbeddedRemeshOutputSizeAtSurface(const ar::CavityRemesh& r)
+{
+  std::vector<double> lv =
+    ar::LongestEdgeAtNodes(r.Mesh.Points.data(), r.Mesh.Points.size() / 3, r.Mesh.Tetrahedra.data(),
+      r.Mesh.NumberOfTetrahedra());
+  ar::AccumulateLongestEdges(ar::CellShape::Wedge, r.Mesh.Points.data(), r.Prisms.data(), r.Prisms.size() / 6, lv);
+  ar::AccumulateLongestEdges(ar::CellShape::Pyramid, r.Mesh.Points.data(), r.Pyramids.data(), r.Pyramids.size() / 5, lv);
+  return ar::MedianAtNodes(lv, r.Surface.data(), r.Surface.size());
+}
+
+void vtkEmbeddedRemeshAddSizeFields(vtkUnstructuredGrid* output, double edge, double inputSize, double outputSize)
+{
+  auto field = [&](const char* name, double value) {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  };
+  field("InputSizeAtSurface", inputSize);
+  field("SurfaceSizeFactor", inputSize > 0.0 ? edge / inputSize : 0.0);
+  field("OutputSizeAtSurface", outputSize);
+  field("SurfaceSizeRatio", inputSize > 0.0 ? outputSize / inputSize : 0.0);
+}
+
+bool vtkEmbeddedRemeshSizeOptionsValid(vtkEmbeddedRemesh* self, std::string& problem)
+{
+  const double f = self->GetSurfaceSizeFactor();
+  if (self->GetSurfaceEdgeLength() <= 0.0 && !(f >= 0.0 && f <= 10.0))
+  {
+    std::ostringstream msg;
+    msg << "EmbeddedRemesh: SurfaceSizeFactor is " << f
+        << "; it must lie in [0, 10] (S's edge length in units of the input's size at S, "
+           "below 1 refines; 0 automatic), or set SurfaceEdgeLength.";
+    problem = msg.str();
+    return false;
+  }
+  return true;
+}
+
 void vtkEmbeddedRemeshAddLayerFields(
   vtkUnstructuredGrid* output, const ar::PrismLayerOptions& layers, double limitedColumns)
 {
@@ -303,6 +340,16 @@ void vtkEmbeddedRemeshAddLayerFields(
   {
     output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
   }
+}
+
+//------------------------------------------------------------------------------
+double vtkEmbeddedRemesh::GetSurfaceSizeFactorUsed() const
+{
+  if (this->SurfaceSizeFactor > 0.0)
+  {
+    return this->SurfaceSizeFactor;
+  }
+  return this->LayerType == PRISMS ? 1.0 : 0.25;
 }
 
 //------------------------------------------------------------------------------
@@ -465,6 +512,11 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     output->ShallowCopy(input);
     return 1;
   };
+  std::string sizeProblem;
+  if (!vtkEmbeddedRemeshSizeOptionsValid(this, sizeProblem))
+  {
+    return passThrough(sizeProblem);
+  }
   if (vtkARMeshKernels::NumberOfRanks() > 1)
   {
     return this->RemeshDistributed(input, surfaces, output, embedded);
@@ -601,27 +653,12 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   this->UpdateProgress(0.1);
   const double secondsInput = lap();
 
-  // ---- S remeshed at the edge length.
-  double edge = this->SurfaceEdgeLength;
-  if (edge <= 0.0)
+  // ---- S remeshed at the edge length: SurfaceSizeFactor times the input's
+  // size at S, h_S (the median l_v at the node of V nearest to each S point).
+  double inputSize = 0.0;
   {
-    std::vector<double> lv(nPoints, 0.0);
-    for (std::size_t t = 0; t < tets.NumberOfTetrahedra(); ++t)
-    {
-      const std::int64_t* v = &tets.Tetrahedra[4 * t];
-      for (int a = 0; a < 4; ++a)
-      {
-        for (int b = a + 1; b < 4; ++b)
-        {
-          const double* p = &tets.Points[3 * v[a]];
-          const double* q = &tets.Points[3 * v[b]];
-          const double l = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-            (p[2] - q[2]) * (p[2] - q[2]));
-          lv[v[a]] = std::max(lv[v[a]], l);
-          lv[v[b]] = std::max(lv[v[b]], l);
-        }
-      }
-    }
+    const std::vector<double> lv =
+      ar::LongestEdgeAtNodes(tets.Points.data(), nPoints, tets.Tetrahedra.data(), tets.NumberOfTetrahedra());
     vtkNew<vtkStaticPointLocator> locator;
     locator->SetDataSet(input);
     locator->BuildLocator();
@@ -634,12 +671,12 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
         near.push_back(lv[j]);
       }
     }
-    if (near.empty())
-    {
-      return passThrough("Could not find the mesh size near the feature surface; set SurfaceEdgeLength.");
-    }
-    std::nth_element(near.begin(), near.begin() + near.size() / 2, near.end());
-    edge = near[near.size() / 2];
+    inputSize = ar::Median(std::move(near));
+  }
+  const double edge = this->SurfaceEdgeLength > 0.0 ? this->SurfaceEdgeLength : this->GetSurfaceSizeFactorUsed() * inputSize;
+  if (!(edge > 0.0))
+  {
+    return passThrough("Could not find the mesh size near the feature surface; set SurfaceEdgeLength.");
   }
   std::vector<double> rPoints;
   std::vector<std::int64_t> rTris;
@@ -963,6 +1000,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   field("SurfaceTriangles", static_cast<double>(result.Surface.size() / 3));
   field("SurfaceTrianglesAtLockedCells", static_cast<double>(result.SurfaceTrianglesAtLockedCells));
   field("SurfaceEdgeLength", edge);
+  vtkEmbeddedRemeshAddSizeFields(output, edge, inputSize, vtkEmbeddedRemeshOutputSizeAtSurface(result));
   vtkEmbeddedRemeshAddLayerFields(output, options.Layers, static_cast<double>(result.LimitedColumns));
   vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("SecondsInput", secondsInput);
@@ -1129,23 +1167,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   this->UpdateProgress(0.1);
 
   // ---- l_v (complete at the nodes of owned cells, thanks to the ghosts).
-  std::vector<double> lv(nPoints, 0.0);
-  for (std::size_t t = 0; t < nT; ++t)
-  {
-    const std::int64_t* v = &V.Tetrahedra[4 * t];
-    for (int a = 0; a < 4; ++a)
-    {
-      for (int b = a + 1; b < 4; ++b)
-      {
-        const double* p = &V.Points[3 * v[a]];
-        const double* q = &V.Points[3 * v[b]];
-        const double l = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-          (p[2] - q[2]) * (p[2] - q[2]));
-        lv[v[a]] = std::max(lv[v[a]], l);
-        lv[v[b]] = std::max(lv[v[b]], l);
-      }
-    }
-  }
+  const std::vector<double> lv = ar::LongestEdgeAtNodes(V.Points.data(), nPoints, V.Tetrahedra.data(), nT);
   std::vector<char> ownedNode(nPoints, 0);
   for (std::size_t t = 0; t < nT; ++t)
   {
@@ -1155,11 +1177,10 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     }
   }
 
-  // ---- The edge length: the median l_v at the mesh node nearest to each
-  // S point (the nearest over all ranks' owned nodes), as in serial.
-  double edge = this->SurfaceEdgeLength;
+  // ---- The input's size at S: the median l_v at the mesh node nearest to
+  // each S point (the nearest over all ranks' owned nodes), as in serial.
+  double inputSize = 0.0;
   const std::size_t nS = sPoints.size() / 3;
-  if (edge <= 0.0)
   {
     vtkNew<vtkPoints> candidates;
     candidates->SetDataTypeToDouble();
@@ -1213,13 +1234,13 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
         near.push_back(size);
       }
     }
-    if (near.empty())
-    {
-      problem = "Could not find the mesh size near the feature surface; set SurfaceEdgeLength.";
-      return passThrough();
-    }
-    std::nth_element(near.begin(), near.begin() + near.size() / 2, near.end());
-    edge = near[near.size() / 2];
+    inputSize = ar::Median(std::move(near));
+  }
+  const double edge = this->SurfaceEdgeLength > 0.0 ? this->SurfaceEdgeLength : this->GetSurfaceSizeFactorUsed() * inputSize;
+  if (!(edge > 0.0))
+  {
+    problem = "Could not find the mesh size near the feature surface; set SurfaceEdgeLength.";
+    return passThrough();
   }
 
   // ---- S remeshed on rank 0, sent to every rank.
@@ -1724,6 +1745,9 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   field("RemovedNodes", removedNodes);
   field("SurfaceTriangles", surfaceTriangles);
   field("SurfaceEdgeLength", edge);
+  double outputSize = vtkEmbeddedRemeshOutputSizeAtSurface(result); // S and the new cells are on rank 0; 0 elsewhere
+  vtkARMeshKernels::AllReduceMax(&outputSize, 1);
+  vtkEmbeddedRemeshAddSizeFields(output, edge, inputSize, outputSize);
   vtkEmbeddedRemeshAddLayerFields(output, options.Layers, limited);
   vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("RelativeVolumeChange", volumes[0] > 0.0 ? (volumes[1] - volumes[0]) / volumes[0] : 0.0);
@@ -1754,6 +1778,7 @@ void vtkEmbeddedRemesh::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Mode: " << this->Mode << "\n";
   os << indent << "SurfaceEdgeLength: " << this->SurfaceEdgeLength << "\n";
+  os << indent << "SurfaceSizeFactor: " << this->SurfaceSizeFactor << "\n";
   os << indent << "RemovalFactor: " << this->RemovalFactor << "\n";
   os << indent << "VisibilityTest: " << this->VisibilityTest << "\n";
   os << indent << "BoundaryMargin: " << this->BoundaryMargin << "\n";

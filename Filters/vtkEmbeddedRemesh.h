@@ -15,8 +15,14 @@
  * connections are merged).
  *
  * 1. S is remeshed to nearly equilateral triangles of SurfaceEdgeLength
- *    (CGAL isotropic remeshing; 0 = the median, over S's points, of the
- *    longest edge of V at the nearest node of V).
+ *    (CGAL isotropic remeshing). 0 (the default) sets it relative to the
+ *    input's local size at S, the paper's clustering: SurfaceSizeFactor
+ *    times h_S, the median over S's points of the longest edge of V at the
+ *    nearest node of V (the paper's l); the automatic factor is 0.25 for
+ *    tetrahedra and 1 with prism layers (which refine across S). A factor
+ *    below 1 refines across the feature; the refill grades the size back to
+ *    the input's through the cavity, whose radius RemovalFactor *
+ *    max(l_si, l_vj) follows the input's size, so it holds the grading.
  * 2. LOCAL_CAVITY (default): a node V_j is removed if it lies within
  *    RemovalFactor * max(l_si, l_vj) of a node S_i and, with VisibilityTest,
  *    no boundary face of V lies between them. The tetrahedra touching removed
@@ -46,6 +52,11 @@
  * polyhedra); field data `KeptCells`, `NewCells`, `RemovedNodes`,
  * `SurfaceTriangles`, `SurfaceTrianglesAtLockedCells` (S triangles dropped
  * at the kept non-tetrahedral cells), `SurfaceEdgeLength`,
+ * `InputSizeAtSurface` (h_S), `OutputSizeAtSurface` (the median longest
+ * edge of the output at S's nodes, the same measure), `SurfaceSizeRatio`
+ * (their ratio: how fine the new cells at S are relative to the input's),
+ * `SurfaceSizeFactor` (S's edge length over `InputSizeAtSurface`),
+ * `InputNodes`, `OutputNodes`, `NewNodes`,
  * `MinDihedralAngleNew`, `MeanDihedralAngleNew` (of the cells' smallest
  * angles), `MaxAspectRatioNew`, `MaxAspectRatioLayerCells` (the kept
  * non-tetrahedral cells, thin by design), `NonPositiveJacobianCells` (cells
@@ -173,6 +184,15 @@ public:
   vtkGetMacro(Mode, int);
   vtkSetClampMacro(SurfaceEdgeLength, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(SurfaceEdgeLength, double);
+  /// With SurfaceEdgeLength 0: S's edge length in units of the input's local
+  /// size at S. 0 (the default) is automatic: 0.25 with tetrahedra (four
+  /// times finer across the feature), 1 with prism layers (the layers refine
+  /// across S; along it the input's size is kept, the paper's anisotropic
+  /// cells). Not clamped: outside [0, 10] it is refused with an error naming it.
+  vtkSetMacro(SurfaceSizeFactor, double);
+  vtkGetMacro(SurfaceSizeFactor, double);
+  /// The factor a run uses: SurfaceSizeFactor, or the automatic one.
+  double GetSurfaceSizeFactorUsed() const;
   vtkSetClampMacro(RemovalFactor, double, 0.0, 1e3);
   vtkGetMacro(RemovalFactor, double);
   vtkSetMacro(VisibilityTest, bool);
@@ -242,6 +262,7 @@ private:
   double GrowthRatio = 1.2;
   double TotalThickness = 0.0;
   double SurfaceEdgeLength = 0.0;
+  double SurfaceSizeFactor = 0.0;
   double RemovalFactor = 3.0;
   bool VisibilityTest = true;
   double BoundaryMargin = 1.0;

@@ -6,6 +6,7 @@
 #include "vtkEmbeddedRemeshQuality.h"
 
 #include "ARCavity2D.h"
+#include "ARMeshSize.h"
 #include "vtkARMeshKernels.h"
 
 #include "vtkAppendPolyData.h"
@@ -298,21 +299,9 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     section.Connectivity.insert(section.Connectivity.end(), face.begin(), face.end());
     section.Offsets.push_back(static_cast<std::int64_t>(section.Connectivity.size()));
   }
-  // Longest 2-D edge at each node (the default edge length).
-  std::vector<double> lv(frontPoint.size(), 0.0);
-  for (std::size_t c = 0; c < nVolume; ++c)
-  {
-    const std::int64_t n = section.Offsets[c + 1] - section.Offsets[c];
-    const std::int64_t* v = &section.Connectivity[section.Offsets[c]];
-    for (std::int64_t j = 0; j < n; ++j)
-    {
-      const double* a = &section.Points[2 * v[j]];
-      const double* b = &section.Points[2 * v[(j + 1) % n]];
-      const double l = std::hypot(a[0] - b[0], a[1] - b[1]);
-      lv[v[j]] = std::max(lv[v[j]], l);
-      lv[v[(j + 1) % n]] = std::max(lv[v[(j + 1) % n]], l);
-    }
-  }
+  // Longest 2-D edge at each node (the input's size at the curve).
+  const std::vector<double> lv = ar::LongestPolygonEdgeAtNodes(section.Points.data(), 2, frontPoint.size(),
+    section.Offsets.data(), section.Connectivity.data(), nVolume);
 
   // ---- The curves: the surfaces cut with the mid-depth plane.
   vtkNew<vtkAppendPolyData> append;
@@ -356,8 +345,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     return passThrough("The feature curve is empty: the feature surface does not cross the mid-depth "
                        "plane of the mesh.");
   }
-  double edge = this->SurfaceEdgeLength;
-  if (edge <= 0.0)
+  double inputSize = 0.0;
   {
     vtkNew<vtkPoints> nodes;
     nodes->SetDataTypeToDouble();
@@ -381,12 +369,12 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
         near.push_back(lv[j]);
       }
     }
-    if (near.empty())
-    {
-      return passThrough("Could not find the mesh size near the feature curve; set SurfaceEdgeLength.");
-    }
-    std::nth_element(near.begin(), near.begin() + near.size() / 2, near.end());
-    edge = near[near.size() / 2];
+    inputSize = ar::Median(std::move(near));
+  }
+  const double edge = this->SurfaceEdgeLength > 0.0 ? this->SurfaceEdgeLength : this->GetSurfaceSizeFactorUsed() * inputSize;
+  if (!(edge > 0.0))
+  {
+    return passThrough("Could not find the mesh size near the feature curve; set SurfaceEdgeLength.");
   }
   vtkNew<vtkSplineFilter> resample;
   resample->SetInputData(cut);
@@ -706,6 +694,12 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   field("RemovedNodes", static_cast<double>(nPoints - nKeptPoints));
   field("SurfaceQuads", static_cast<double>(result.Curve.size() / 2));
   field("SurfaceEdgeLength", edge);
+  {
+    const std::vector<double> lvOut = ar::LongestPolygonEdgeAtNodes(result.Mesh.Points.data(), 2,
+      result.Mesh.NumberOfPoints(), result.Mesh.Offsets.data(), result.Mesh.Connectivity.data(),
+      result.Mesh.NumberOfCells());
+    vtkEmbeddedRemeshAddSizeFields(output, edge, inputSize, ar::MedianAtNodes(lvOut, result.Curve.data(), result.Curve.size()));
+  }
   field("MinTriangleAngleNew", newCount ? result.MinAngleNew : 0.0);
   vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("RelativeVolumeChange", areaBefore > 0.0 ? (areaAfter - areaBefore) / areaBefore : 0.0);

@@ -7,10 +7,14 @@
 #ifndef vtkEmbeddedRemeshQuality_h
 #define vtkEmbeddedRemeshQuality_h
 
+#include <string>
+
+class vtkEmbeddedRemesh;
 class vtkIntArray;
 class vtkUnstructuredGrid;
 namespace ar
 {
+struct CavityRemesh;
 struct PrismLayerOptions;
 }
 
@@ -50,5 +54,19 @@ void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& sums);
 /// FirstLayerThicknessUsed (0 without layers), from the options used.
 void vtkEmbeddedRemeshAddLayerFields(
   vtkUnstructuredGrid* output, const ar::PrismLayerOptions& layers, double limitedColumns);
+
+/// The output's size at S: the median, over the embedded S's nodes, of the
+/// longest edge at the node (tetrahedra, prisms, pyramids of the result) --
+/// the measure of the input's size at S, so the two compare.
+double vtkEmbeddedRemeshOutputSizeAtSurface(const ar::CavityRemesh& result);
+
+/// Field data InputSizeAtSurface, SurfaceSizeFactor (S's edge length `edge`
+/// over it), OutputSizeAtSurface and SurfaceSizeRatio (output / input: how
+/// fine the new cells at S are relative to the input's).
+void vtkEmbeddedRemeshAddSizeFields(vtkUnstructuredGrid* output, double edge, double inputSize, double outputSize);
+
+/// False with `problem` naming the property when SurfaceSizeFactor is
+/// outside (0, 10] and is used (SurfaceEdgeLength 0).
+bool vtkEmbeddedRemeshSizeOptionsValid(vtkEmbeddedRemesh* self, std::string& problem);
 
 #endif

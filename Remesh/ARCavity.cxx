@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARCavity.h"
+
+#include "ARMeshSize.h"
 #include "ARUnionFind.h"
 
 #include "ARTetGeometry.h"
@@ -253,20 +255,8 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   // ---- Longest edge at each node of V and of S.
   // (and the mean length of the edges of the tetrahedra at each node of V,
   // the size the refill grades to at the cavity's boundary)
-  std::vector<double> lv(nV, 0.0), ls(nSurfacePoints, 0.0), meanV(nV, 0.0);
-  for (std::size_t t = 0; t < nT; ++t)
-  {
-    const std::int64_t* v = &V.Tetrahedra[4 * t];
-    for (int a = 0; a < 4; ++a)
-    {
-      for (int b = a + 1; b < 4; ++b)
-      {
-        const double l = Distance(&V.Points[3 * v[a]], &V.Points[3 * v[b]]);
-        lv[v[a]] = std::max(lv[v[a]], l);
-        lv[v[b]] = std::max(lv[v[b]], l);
-      }
-    }
-  }
+  const std::vector<double> lv = LongestEdgeAtNodes(V.Points.data(), nV, V.Tetrahedra.data(), nT);
+  std::vector<double> ls(nSurfacePoints, 0.0), meanV(nV, 0.0);
   // The mean edge at a node, for the nodes flagged in `need` that do not
   // have it yet (only the cavity's boundary nodes need it: computed there,
   // the cost follows the cavity). It is summed exactly (fixed point, scaled

@@ -138,6 +138,13 @@ int NumberOfFaces(CellShape shape)
   return static_cast<int>(Of(shape).Faces.size());
 }
 
+void CellEdge(CellShape shape, int e, int& a, int& b)
+{
+  const Topology::Edge& edge = Of(shape).Edges[e];
+  a = edge.A;
+  b = edge.B;
+}
+
 void CellDihedralAngles(CellShape shape, const double* points, double* angles)
 {
   const Topology& t = Of(shape);

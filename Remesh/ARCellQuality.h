@@ -65,6 +65,9 @@ int NumberOfFaces(CellShape shape);
 /// a valid cell); a triangle ends with -1.
 const int* CellFace(CellShape shape, int f);
 
+/// Edge e of a shape: its two local node ids (the lower first).
+void CellEdge(CellShape shape, int e, int& a, int& b);
+
 struct CellQuality
 {
   double MinDihedralAngle = 0.0;  ///< degrees

@@ -100,7 +100,8 @@ def compare(mode):
                   "FullDomain: the whole mesh is remeshed on rank 0; rank 1 ends empty")
         s_ref, s_par = refS.GetNumberOfCells(), sum(p.GetNumberOfCells() for p in parS)
         check(s_ref > 50 and s_par == s_ref, "embedded surface: %d triangles (serial %d)" % (s_par, s_ref))
-        for name in ("KeptCells", "NewCells", "RemovedNodes", "SurfaceTriangles", "SurfaceEdgeLength"):
+        for name in ("KeptCells", "NewCells", "RemovedNodes", "SurfaceTriangles", "SurfaceEdgeLength",
+                     "InputSizeAtSurface", "SurfaceSizeFactor", "OutputSizeAtSurface", "SurfaceSizeRatio"):
             present = all(name in p.FieldData.keys() for p in par + [ref])
             a, b = ([artest.field(p, name) for p in par], artest.field(ref, name)) if present else ([], [None])
             check(present and all(len(x) == 1 and x[0] == b[0] for x in a), "field %s equal on both ranks to the serial run (%s)" % (name, b))

@@ -187,11 +187,15 @@ for a, b in segments:
     degree[b] = degree.get(b, 0) + 1
 check(sorted(degree.values()).count(1) == 2 and max(degree.values()) == 2,
       "the quads form one chain along the shock")
+# The ends are trimmed by lengths of the input's cells (QuadricFit's trim at
+# the domain, the cavity's margin), so they are measured in the input's size
+# at the curve, h_S, not in the (finer) curve edges.
 h = artest.field(out, "SurfaceEdgeLength")[0]
+hS = artest.field(out, "InputSizeAtSurface")[0]
 xmax = P0[:, 0].max()
-check(used[:, 0].min() < 10 * h and used[:, 0].max() > xmax - 4 * h,
-      "the layer runs from near the apex (x = %.4f, %.1f edges) to near the outlet (x = %.4f, %.1f edges short)"
-      % (used[:, 0].min(), used[:, 0].min() / h, used[:, 0].max(), (xmax - used[:, 0].max()) / h))
+check(used[:, 0].min() < 10 * hS and used[:, 0].max() > xmax - 4 * hS,
+      "the layer runs from near the apex (x = %.4f, %.1f input cells) to near the outlet (x = %.4f, %.1f input cells short)"
+      % (used[:, 0].min(), used[:, 0].min() / hS, used[:, 0].max(), (xmax - used[:, 0].max()) / hS))
 
 # ---- p at kept nodes exact; quality of the new triangles; node counts.
 index0 = {tuple(p): i for i, p in enumerate(P0)}

@@ -5,15 +5,19 @@
 #include "vtkCellData.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -38,16 +42,110 @@ const char* ArrayName(vtkAlgorithm* self, int idx)
   return (info && info->Has(vtkDataObject::FIELD_NAME())) ? info->Get(vtkDataObject::FIELD_NAME())
                                                           : "(none)";
 }
+
+const char* const RoleNames[6] = { "Velocity", "Pressure", "Density", "Temperature", "Momentum",
+  "TotalEnergy" };
+const int RoleComponents[6] = { 3, 1, 1, 1, 3, 1 };
+
+std::string Lower(const char* s)
+{
+  std::string out(s ? s : "");
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
+  return out;
+}
+
+/// "one of a, b, c" for messages.
+std::string NameList(int idx)
+{
+  std::string out;
+  for (const char* const* n = vtkShockSensor::KnownArrayNames(idx); *n; ++n)
+  {
+    out += (out.empty() ? "" : ", ") + std::string(*n);
+  }
+  return out;
+}
+}
+
+//------------------------------------------------------------------------------
+const char* const* vtkShockSensor::KnownArrayNames(int idx)
+{
+  // OpenFOAM first (U, p, rho, T, and the rhoU/rhoE our converters add), then
+  // SU2 (Velocity, Pressure, Density, Temperature, Momentum, Energy = rho E),
+  // CGNS as ParaView's CGNS reader groups it (Velocity, Pressure, Density,
+  // Temperature, Momentum, EnergyStagnationDensity), Fluent's exports
+  // (velocity, pressure / absolute-pressure, density, temperature).
+  static const char* const velocity[] = { "U", "Velocity", "Vel", "V", "velocity_vector", nullptr };
+  static const char* const pressure[] = { "p", "Pressure", "StaticPressure", "static_pressure",
+    "absolute-pressure", "absolute_pressure", "AbsolutePressure", nullptr };
+  static const char* const density[] = { "rho", "Density", "Rho", nullptr };
+  static const char* const temperature[] = { "T", "Temperature", "StaticTemperature", "static_temperature",
+    nullptr };
+  static const char* const momentum[] = { "rhoU", "Momentum", "rhoV", "rho_u", nullptr };
+  static const char* const energy[] = { "rhoE", "Energy", "EnergyStagnationDensity", "TotalEnergy",
+    "total_energy", "rho_E", nullptr };
+  static const char* const none[] = { nullptr };
+  switch (idx)
+  {
+    case VELOCITY:
+      return velocity;
+    case PRESSURE:
+      return pressure;
+    case DENSITY:
+      return density;
+    case TEMPERATURE:
+      return temperature;
+    case MOMENTUM:
+      return momentum;
+    case TOTAL_ENERGY:
+      return energy;
+    default:
+      return none;
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* vtkShockSensor::ResolveArray(
+  int idx, int components, vtkDataSet* input, int& association, bool& automatic)
+{
+  association = -1;
+  vtkInformation* info = this->GetInputArrayInformation(idx);
+  const char* name =
+    (info && info->Has(vtkDataObject::FIELD_NAME())) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  automatic = !name || !*name || std::string(name) == AutomaticArrayName;
+  if (!automatic)
+  {
+    return this->GetInputArrayToProcess(idx, input, association);
+  }
+  const int where[2] = { vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataObject::FIELD_ASSOCIATION_CELLS };
+  for (const char* const* n = KnownArrayNames(idx); *n; ++n)
+  {
+    const std::string want = Lower(*n);
+    for (int w = 0; w < 2; ++w)
+    {
+      vtkDataSetAttributes* data = w == 0 ? static_cast<vtkDataSetAttributes*>(input->GetPointData())
+                                          : static_cast<vtkDataSetAttributes*>(input->GetCellData());
+      for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+      {
+        vtkDataArray* array = data->GetArray(a);
+        if (array && array->GetName() && Lower(array->GetName()) == want &&
+          array->GetNumberOfComponents() == components)
+        {
+          association = where[w];
+          return array;
+        }
+      }
+    }
+  }
+  return nullptr;
 }
 
 //------------------------------------------------------------------------------
 vtkShockSensor::vtkShockSensor()
 {
-  // Defaults for pvpython/C++ users: point arrays named as OpenFOAM writes them.
-  const char* names[6] = { "U", "p", "rho", "T", "rhoU", "rhoE" };
+  // Every array found by its usual names unless the user names it.
   for (int i = 0; i < 6; ++i)
   {
-    this->SetInputArrayToProcess(i, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, names[i]);
+    this->SetInputArrayToProcess(i, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, AutomaticArrayName);
   }
 }
 
@@ -82,13 +180,92 @@ int vtkShockSensor::RequestData(
   {
     problem << "Gamma must be greater than 1 (it is " << this->Gamma << "). ";
   }
-  if (this->VariableSet == VELOCITY_PRESSURE_TEMPERATURE && !(this->GasConstant > 0.0))
+  if (!(this->GasConstant >= 0.0) || !std::isfinite(this->GasConstant))
   {
-    problem << "GasConstant must be positive (it is " << this->GasConstant << "). ";
+    problem << "GasConstant is " << this->GasConstant
+            << "; it must be positive (J/(kg K), 287.05 for air), or 0 to take it from the data. ";
+  }
+
+  // ---- The arrays: named, or found by their usual names; the set.
+  vtkDataArray* found[6];
+  int foundAssociation[6];
+  bool foundAutomatically[6];
+  for (int i = 0; i < 6; ++i)
+  {
+    found[i] = this->ResolveArray(i, RoleComponents[i], input, foundAssociation[i], foundAutomatically[i]);
+  }
+  int set = this->VariableSet;
+  bool setFound = true; // false: the set's problem is reported already, its arrays are not read
+  if (set < VELOCITY_PRESSURE_DENSITY || set > AUTOMATIC)
+  {
+    problem << "VariableSet is " << set
+            << "; it must be 0 (velocity, pressure, density), 1 (velocity, pressure, temperature), 2 "
+               "(conserved) or 3 (automatic). ";
+    set = VELOCITY_PRESSURE_DENSITY;
+    setFound = false;
+  }
+  else if (ncells == 0)
+  {
+    setFound = false; // the mesh's problem is reported; no array is read
+    set = VELOCITY_PRESSURE_DENSITY;
+  }
+  else if (set == AUTOMATIC)
+  {
+    // The first complete set that holds every array the user named (a
+    // named array is never ignored in favour of another set).
+    const int members[3][3] = { { VELOCITY, PRESSURE, DENSITY }, { VELOCITY, PRESSURE, TEMPERATURE },
+      { DENSITY, MOMENTUM, TOTAL_ENERGY } };
+    bool namedMissing = false;
+    for (int i = 0; i < 6; ++i)
+    {
+      if (!foundAutomatically[i] && !found[i])
+      {
+        problem << "The " << RoleNames[i] << " array '" << ArrayName(this, i)
+                << "' is not a point or cell array of the input. ";
+        namedMissing = true;
+      }
+    }
+    for (int candidate = 0; candidate < 3 && set == AUTOMATIC; ++candidate)
+    {
+      bool eligible = true;
+      for (int k = 0; k < 3; ++k)
+      {
+        eligible = eligible && found[members[candidate][k]];
+      }
+      for (int i = 0; i < 6 && eligible; ++i)
+      {
+        const int* m = members[candidate];
+        eligible = foundAutomatically[i] || i == m[0] || i == m[1] || i == m[2];
+      }
+      if (eligible)
+      {
+        set = candidate;
+      }
+    }
+    if (set == AUTOMATIC && namedMissing)
+    {
+      set = VELOCITY_PRESSURE_DENSITY;
+      setFound = false;
+    }
+    else if (set == AUTOMATIC)
+    {
+      problem << "No complete flow state among the input's arrays. The sensor needs a velocity ("
+              << RoleNames[VELOCITY] << ": " << NameList(VELOCITY) << ") and a pressure (" << NameList(PRESSURE)
+              << ") with a density (" << NameList(DENSITY) << ") or a temperature ("
+              << NameList(TEMPERATURE) << "), or the conserved density, momentum (" << NameList(MOMENTUM)
+              << ") and total energy (" << NameList(TOTAL_ENERGY) << "). Found:";
+      for (int i = 0; i < 6; ++i)
+      {
+        problem << " " << RoleNames[i] << " " << (found[i] ? found[i]->GetName() : "-");
+      }
+      problem << ". Pick the arrays and the VariableSet. ";
+      set = VELOCITY_PRESSURE_DENSITY;
+      setFound = false;
+    }
   }
 
   Slot slots[3];
-  switch (this->VariableSet)
+  switch (set)
   {
     case VELOCITY_PRESSURE_TEMPERATURE:
       slots[0] = { VELOCITY, "Velocity", 3, 0, false };
@@ -112,16 +289,24 @@ int vtkShockSensor::RequestData(
   std::vector<double> state(static_cast<size_t>(npts) * NC, 0.0);
   std::vector<double> cellState;
   std::vector<int> cellColumns;
-  if (ncells > 0)
+  if (ncells > 0 && setFound)
   {
     for (const Slot& s : slots)
     {
-      int association = -1;
-      vtkDataArray* array = this->GetInputArrayToProcess(s.Index, input, association);
+      const int association = foundAssociation[s.Index];
+      vtkDataArray* array = found[s.Index];
       if (!array)
       {
-        problem << "The " << s.Role << " array '" << ArrayName(this, s.Index)
-                << "' is not a point or cell array of the input. ";
+        if (foundAutomatically[s.Index])
+        {
+          problem << "No " << s.Role << " array: none of " << NameList(s.Index) << " is a "
+                  << s.Components << "-component point or cell array of the input; pick it. ";
+        }
+        else
+        {
+          problem << "The " << s.Role << " array '" << ArrayName(this, s.Index)
+                  << "' is not a point or cell array of the input. ";
+        }
         continue;
       }
       if (array->GetNumberOfComponents() != s.Components)
@@ -168,6 +353,70 @@ int vtkShockSensor::RequestData(
       }
     }
   }
+
+  // ---- The gas constant with temperature: from the data's p / (rho T)
+  // where a density is present too (the median: point data averaged across
+  // a shock scatter by a few per cent), else the field data's GasConstant.
+  double R = this->GasConstant;
+  if (set == VELOCITY_PRESSURE_TEMPERATURE)
+  {
+    double fromData = 0.0;
+    vtkDataArray* p = found[PRESSURE];
+    vtkDataArray* rho = found[DENSITY];
+    vtkDataArray* T = found[TEMPERATURE];
+    if (p && rho && T && foundAssociation[PRESSURE] == foundAssociation[DENSITY] &&
+      foundAssociation[PRESSURE] == foundAssociation[TEMPERATURE] &&
+      p->GetNumberOfTuples() == rho->GetNumberOfTuples() && p->GetNumberOfTuples() == T->GetNumberOfTuples())
+    {
+      std::vector<double> ratio;
+      ratio.reserve(static_cast<std::size_t>(p->GetNumberOfTuples()));
+      for (vtkIdType i = 0; i < p->GetNumberOfTuples(); ++i)
+      {
+        const double r = p->GetComponent(i, 0) / (rho->GetComponent(i, 0) * T->GetComponent(i, 0));
+        if (r > 0.0 && std::isfinite(r))
+        {
+          ratio.push_back(r);
+        }
+      }
+      if (!ratio.empty())
+      {
+        std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+        fromData = ratio[ratio.size() / 2];
+      }
+    }
+    // The same on every rank (each rank's median, the largest: documented
+    // as the one reduction here that is not the serial run's bit for bit).
+    vtkARMeshKernels::AllReduceMax(&fromData, 1);
+    vtkDataArray* field = input->GetFieldData() ? input->GetFieldData()->GetArray("GasConstant") : nullptr;
+    const double fromField = field && field->GetNumberOfTuples() > 0 ? field->GetComponent(0, 0) : 0.0;
+    if (fromData > 0.0)
+    {
+      if (R <= 0.0)
+      {
+        R = fromData;
+      }
+      else if (std::abs(R / fromData - 1.0) > 0.02)
+      {
+        problem << "GasConstant is " << R << ", but the data's p / (rho T) is " << fromData
+                << " (the median over the " << (foundAssociation[PRESSURE] == vtkDataObject::FIELD_ASSOCIATION_POINTS ? "points" : "cells")
+                << "): the arrays are not in the units of that R (non-dimensional data?). Set GasConstant to 0 "
+                   "to take it from the data. ";
+      }
+    }
+    else if (R <= 0.0)
+    {
+      if (fromField > 0.0 && std::isfinite(fromField))
+      {
+        R = fromField;
+      }
+      else
+      {
+        problem << "GasConstant is 0 (take it from the data), but the input has no density array to "
+                   "compute p / (rho T) from, nor a GasConstant in its field data: set GasConstant "
+                   "(J/(kg K); 287.05 for air). ";
+      }
+    }
+  }
   if (!vtkARMeshKernels::AgreeToProceed(
         this, problem.str(), mesh, vtkARMeshKernels::Census(mesh), "the shock sensor"))
   {
@@ -184,8 +433,6 @@ int vtkShockSensor::RequestData(
 
   // ---- Primitive state at the points: V (3), p, rho.
   const double gamma = this->Gamma;
-  const double R = this->GasConstant;
-  const int set = this->VariableSet;
   std::atomic<vtkIdType> badPressure(-1);
   vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType p = b; p < e; ++p)
@@ -415,6 +662,20 @@ int vtkShockSensor::RequestData(
 
   output->GetPointData()->AddArray(normalMach);
   output->GetCellData()->AddArray(shockCells);
+  // What was read: the arrays of the set, the set, and R with temperature.
+  vtkNew<vtkStringArray> used;
+  used->SetName("FlowStateArrays");
+  for (const Slot& s : slots)
+  {
+    used->InsertNextValue(found[s.Index]->GetName());
+  }
+  output->GetFieldData()->AddArray(used);
+  double setUsed = set;
+  output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("VariableSetUsed", &setUsed, 1));
+  if (set == VELOCITY_PRESSURE_TEMPERATURE)
+  {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("GasConstantUsed", &R, 1));
+  }
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -20,7 +20,23 @@
  * - CONSERVED: Density, Momentum (rho V, 3), TotalEnergy (rho E, per unit
  *   volume), with p = (Gamma - 1) (rhoE - |rhoV|^2 / (2 rho)).
  * The arrays are chosen with SetInputArrayToProcess: index 0 Velocity,
- * 1 Pressure, 2 Density, 3 Temperature, 4 Momentum, 5 TotalEnergy.
+ * 1 Pressure, 2 Density, 3 Temperature, 4 Momentum, 5 TotalEnergy. An
+ * array named "(automatic)" (the default, and an empty name) is found by the
+ * names solvers and their exporters use (OpenFOAM, SU2, Fluent, CGNS as
+ * ParaView's readers present them; KnownArrayNames), compared without case,
+ * point data first, and only with the right number of components: an array
+ * of another quantity is never taken. VariableSet AUTOMATIC (the default)
+ * takes the first complete set among velocity/pressure/density,
+ * velocity/pressure/temperature and the conserved variables; where none is
+ * complete the error names what is missing.
+ *
+ * GasConstant 0 (the default) takes R from the data: p / (rho T) where a
+ * density is present too (the median), else the field data "GasConstant";
+ * a GasConstant that differs from the data's p / (rho T) by more than 2 % is
+ * refused as a mismatch (on non-dimensional data R = 287.05 would find no
+ * shock at all). The output's field data "FlowStateArrays" (the names used,
+ * in the order of the set) and "VariableSetUsed" say what was read, and
+ * "GasConstantUsed" the R used with temperature.
  *
  * Output: the input, shallow-copied, plus the point array "NormalMach" and
  * the cell array "ShockCells" (unsigned char, 1 or 0). NormalMach is set to 0
@@ -76,7 +92,8 @@ public:
   {
     VELOCITY_PRESSURE_DENSITY = 0,
     VELOCITY_PRESSURE_TEMPERATURE = 1,
-    CONSERVED = 2
+    CONSERVED = 2,
+    AUTOMATIC = 3 ///< the first complete set found by the arrays' names
   };
 
   /// Indices for SetInputArrayToProcess.
@@ -91,8 +108,9 @@ public:
   };
 
   ///@{
-  /// Which arrays describe the flow. Default VELOCITY_PRESSURE_DENSITY.
-  vtkSetClampMacro(VariableSet, int, VELOCITY_PRESSURE_DENSITY, CONSERVED);
+  /// Which arrays describe the flow. Default AUTOMATIC. Not clamped: a value
+  /// outside 0..3 is refused with an error naming it.
+  vtkSetMacro(VariableSet, int);
   vtkGetMacro(VariableSet, int);
   ///@}
 
@@ -103,7 +121,8 @@ public:
   ///@}
 
   ///@{
-  /// Specific gas constant R (J/(kg K)), used with temperature. Default 287.05 (air).
+  /// Specific gas constant R (J/(kg K); 287.05 for air), used with
+  /// temperature. Default 0: from the data (see above).
   vtkSetMacro(GasConstant, double);
   vtkGetMacro(GasConstant, double);
   ///@}
@@ -144,13 +163,26 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
+public:
+  /// The names an automatic array of index `idx` (ArrayIndices) is looked
+  /// for by, in order of preference (nullptr-terminated).
+  static const char* const* KnownArrayNames(int idx);
+  /// The name of an array left to the filter to find.
+  static constexpr const char* AutomaticArrayName = "(automatic)";
+
+protected:
+  /// The array of index `idx` on `input` (the named one, or the first known
+  /// name with `components` components); nullptr when there is none.
+  /// `association`: point or cell; `automatic`: it was looked up by name.
+  vtkDataArray* ResolveArray(int idx, int components, vtkDataSet* input, int& association, bool& automatic);
+
 private:
   vtkShockSensor(const vtkShockSensor&) = delete;
   void operator=(const vtkShockSensor&) = delete;
 
-  int VariableSet = VELOCITY_PRESSURE_DENSITY;
+  int VariableSet = AUTOMATIC;
   double Gamma = 1.4;
-  double GasConstant = 287.05;
+  double GasConstant = 0.0;
   double PressureGradientThreshold = 0.05;
   double LocalPeakFraction = 0.5;
   bool CompressionOnly = true;

@@ -1,0 +1,156 @@
+"""ShockSensor with its defaults on a solution as solvers write it (the
+OpenFOAM cone, Data/cone20Ma2p5.vtu, non-dimensional gas R = 1/1.4), and
+with the arrays renamed as other solvers' exports name them:
+- every array property's default is "(automatic)", also when the input's
+  active scalars are another quantity (ParaView would preselect rho as the
+  pressure);
+- with no property set: the arrays U, p, rho are read (FlowStateArrays,
+  VariableSetUsed 0) and NormalMach equals the explicitly configured run's
+  (1e-12: threaded sums are not bit-reproducible yet);
+- SU2 / CGNS (Velocity, Pressure, Density, Momentum, Energy or
+  EnergyStagnationDensity) and Fluent (velocity, pressure, density) names
+  give the same NormalMach;
+- velocity, pressure and temperature only: the set with temperature, R from
+  the field data GasConstant; with neither a density nor that field data,
+  an error that says to set GasConstant;
+- temperature chosen while p, rho and T are all present: R is the median
+  of p / (rho T) (recomputed here), 287.05 is refused as a mismatch naming
+  both values, and 0.7143 (within 2 %) is accepted;
+- only the conserved variables: the conserved set;
+- no pressure among U, rho, T (and no conserved set): an error naming what
+  is missing; rho is never taken as the pressure;
+- a named array that is missing, VariableSet 7, GasConstant -1: refused by
+  name. Every refusal passes the input through unchanged.
+"""
+import numpy as np
+from paraview.simple import *
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+
+import artest
+from artest import check
+
+artest.load_plugin(globals())
+messages = vtkStringOutputWindow()
+vtkOutputWindow.SetInstance(messages)
+
+cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
+base = artest.fetch(cone).VTKObject
+GAMMA = artest.field(artest.fetch(cone), "Gamma")[0]
+
+
+def variant(rename, keep_field_data=True, active=None):
+    """A producer of the cone with its point arrays renamed by `rename`
+    ({old: new}; arrays not in it are dropped), no cell arrays."""
+    g = vtkUnstructuredGrid()
+    g.CopyStructure(base)
+    for old, new in rename.items():
+        a = base.GetPointData().GetArray(old).NewInstance()
+        a.DeepCopy(base.GetPointData().GetArray(old))
+        a.SetName(new)
+        g.GetPointData().AddArray(a)
+    if keep_field_data:
+        g.GetFieldData().ShallowCopy(base.GetFieldData())
+    if active:
+        g.GetPointData().SetActiveScalars(active)
+    src = PVTrivialProducer()
+    src.GetClientSideObject().SetOutput(g)
+    return src
+
+
+def names_used(out):
+    a = out.FieldData["FlowStateArrays"]
+    return [a.GetValue(i) for i in range(a.GetNumberOfValues())]
+
+
+def refused(proxy, fragments, label):
+    before = len(messages.GetOutput())
+    out = artest.fetch(proxy)
+    text = messages.GetOutput()[before:]
+    check(all(f in text for f in fragments) and "NormalMach" not in out.PointData.keys(),
+          "%s: refused, the error says %s; the input passes through" % (label, " / ".join(repr(f) for f in fragments)))
+    return text
+
+
+reference = artest.fetch(ShockSensor(Input=cone, VariableSet=0, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"],
+                                     Density=["POINTS", "rho"], Gamma=GAMMA))
+mn_ref = np.asarray(reference.PointData["NormalMach"])
+cells_ref = int(np.asarray(reference.CellData["ShockCells"]).sum())
+
+
+def same_as_reference(out, label, tol=1e-12):
+    mn = np.asarray(out.PointData["NormalMach"])
+    cells = int(np.asarray(out.CellData["ShockCells"]).sum())
+    check(np.abs(mn - mn_ref).max() <= tol and abs(cells - cells_ref) <= 0.001 * cells_ref,
+          "%s: NormalMach as the explicitly configured run's (max diff %.1e), %d shock cells (reference %d)"
+          % (label, np.abs(mn - mn_ref).max(), cells, cells_ref))
+
+
+# ---- The defaults, also where the active scalars are another quantity.
+proxy = ShockSensor(Input=variant({"rho": "rho", "U": "U", "p": "p", "T": "T", "rhoU": "rhoU", "rhoE": "rhoE"},
+                                  active="rho"))
+defaults = {n: list(getattr(proxy, n))[1] for n in ("Velocity", "Pressure", "Density", "Temperature", "Momentum", "TotalEnergy")}
+check(all(v == "(automatic)" for v in defaults.values()),
+      "every array property defaults to (automatic) though rho is the active scalar: %s" % defaults)
+out = artest.fetch(ShockSensor(Input=cone, Gamma=GAMMA))
+check(names_used(out) == ["U", "p", "rho"] and artest.field(out, "VariableSetUsed")[0] == 0,
+      "defaults on the cone as loaded: reads %s (set %d)" % (names_used(out), artest.field(out, "VariableSetUsed")[0]))
+same_as_reference(out, "defaults")
+
+# ---- Other solvers' names.
+for label, rename, want in (
+        ("SU2", {"U": "Velocity", "p": "Pressure", "rho": "Density", "T": "Temperature", "rhoU": "Momentum",
+                 "rhoE": "Energy"}, ["Velocity", "Pressure", "Density"]),
+        ("Fluent", {"U": "velocity", "p": "pressure", "rho": "density", "T": "temperature"},
+         ["velocity", "pressure", "density"]),
+        ("CGNS conserved", {"rho": "Density", "rhoU": "Momentum", "rhoE": "EnergyStagnationDensity"},
+         ["Momentum", "Density", "EnergyStagnationDensity"])):
+    out = artest.fetch(ShockSensor(Input=variant(rename), Gamma=GAMMA))
+    check(names_used(out) == want, "%s names: reads %s" % (label, names_used(out)))
+    if label == "CGNS conserved":
+        check(artest.field(out, "VariableSetUsed")[0] == 2, "CGNS conserved: the conserved set is used")
+        # (p from rho E differs from the solver's p by the solver's round-off)
+        mn = np.asarray(out.PointData["NormalMach"])
+        cells = int(np.asarray(out.CellData["ShockCells"]).sum())
+        check(abs(cells - cells_ref) <= 0.02 * cells_ref, "CGNS conserved: %d shock cells (reference %d)"
+              % (cells, cells_ref))
+    else:
+        same_as_reference(out, "%s names" % label)
+
+# ---- Temperature instead of density: R from the field data, or an error.
+out = artest.fetch(ShockSensor(Input=variant({"U": "U", "p": "p", "T": "T"}), Gamma=GAMMA))
+R_field = artest.field(artest.fetch(cone), "GasConstant")[0]
+cells = int(np.asarray(out.CellData["ShockCells"]).sum())
+check(names_used(out) == ["U", "p", "T"] and artest.field(out, "GasConstantUsed")[0] == R_field
+      and abs(cells - cells_ref) <= 0.02 * cells_ref,
+      "U, p, T only: the set with temperature, R = the field data's %.6f, %d shock cells (reference %d)"
+      % (R_field, cells, cells_ref))
+refused(ShockSensor(Input=variant({"U": "U", "p": "p", "T": "T"}, keep_field_data=False), Gamma=GAMMA),
+        ["GasConstant is 0", "no density array", "set GasConstant"], "U, p, T, no GasConstant anywhere")
+
+# ---- Temperature chosen where p, rho and T are all present.
+P = artest.fetch(cone)
+p_, rho_, T_ = (np.asarray(P.PointData[n], dtype=np.float64) for n in ("p", "rho", "T"))
+ratio = np.sort(p_ / (rho_ * T_))
+R_median = ratio[len(ratio) // 2]
+out = artest.fetch(ShockSensor(Input=cone, VariableSet=1, Gamma=GAMMA))
+check(abs(artest.field(out, "GasConstantUsed")[0] - R_median) <= 1e-12 * R_median,
+      "temperature with rho present: R = median p / (rho T) = %.6f (here %.6f)"
+      % (artest.field(out, "GasConstantUsed")[0], R_median))
+text = refused(ShockSensor(Input=cone, VariableSet=1, GasConstant=287.05, Gamma=GAMMA),
+               ["GasConstant is 287.05", "p / (rho T) is 0.714"], "GasConstant 287.05 on non-dimensional data")
+out = artest.fetch(ShockSensor(Input=cone, VariableSet=1, GasConstant=0.7143, Gamma=GAMMA))
+check("NormalMach" in out.PointData.keys() and artest.field(out, "GasConstantUsed")[0] == 0.7143,
+      "GasConstant 0.7143 (within 2 % of the data's) is used as given")
+
+# ---- No pressure: never rho in its place.
+text = refused(ShockSensor(Input=variant({"U": "U", "rho": "rho", "T": "T"}), Gamma=GAMMA),
+               ["No complete flow state", "a pressure (p, Pressure", "Pressure -"], "U, rho, T (no pressure)")
+
+# ---- Bad properties, by name.
+refused(ShockSensor(Input=cone, Pressure=["POINTS", "pressure"]), ["Pressure array 'pressure' is not"],
+        "a named Pressure that does not exist")
+refused(ShockSensor(Input=cone, GasConstant=-1.0), ["GasConstant is -1"], "GasConstant -1")
+refused(ShockSensor(Input=cone, VariableSet=7), ["VariableSet is 7"], "VariableSet 7")
+
+artest.finish()

@@ -8,6 +8,7 @@
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkStringArray.h"
 #include "vtkHexagonalPrism.h"
 #include "vtkHexahedron.h"
 #include "vtkIdList.h"
@@ -165,7 +166,7 @@ vtkFeatureCluster::vtkFeatureCluster()
 {
   this->SetNumberOfOutputPorts(2);
   this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS_THEN_CELLS, "WeightFunction");
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS_THEN_CELLS, AutomaticArrayName);
 }
 
 int vtkFeatureCluster::FillOutputPortInformation(int port, vtkInformation* info)
@@ -215,21 +216,75 @@ int vtkFeatureCluster::RequestData(
   }
   const vtkIdType npts = mesh.NumberOfPoints;
   const vtkIdType ncells = mesh.NumberOfCells;
-  if (!(this->SensorRange[0] <= this->SensorRange[1]))
+  const bool automaticRange = this->SensorRange[0] == 0.0 && this->SensorRange[1] == 0.0;
+  if (!automaticRange && !(this->SensorRange[0] <= this->SensorRange[1]))
   {
     problem << "SensorRange [" << this->SensorRange[0] << ", " << this->SensorRange[1]
             << "] is empty (lower bound above the upper). ";
+  }
+
+  // ---- The sensor (named, or the sensor upstream's) and its range.
+  int association = -1;
+  vtkInformation* info = this->GetInputArrayInformation(0);
+  const char* name = (info && info->Has(vtkDataObject::FIELD_NAME())) ? info->Get(vtkDataObject::FIELD_NAME()) : "";
+  const bool automaticArray = !name || !*name || std::string(name) == AutomaticArrayName;
+  vtkDataArray* sensor = nullptr;
+  if (!automaticArray)
+  {
+    sensor = this->GetInputArrayToProcess(0, input, association);
+  }
+  else
+  {
+    for (const char* candidate : { "NormalMach", "WeightFunction" })
+    {
+      for (int where = 0; where < 2 && !sensor; ++where)
+      {
+        vtkDataSetAttributes* data = where == 0 ? static_cast<vtkDataSetAttributes*>(input->GetPointData())
+                                                : static_cast<vtkDataSetAttributes*>(input->GetCellData());
+        vtkDataArray* a = data->GetArray(candidate);
+        if (a && a->GetNumberOfComponents() == 1)
+        {
+          sensor = a;
+          association = where == 0 ? vtkDataObject::FIELD_ASSOCIATION_POINTS : vtkDataObject::FIELD_ASSOCIATION_CELLS;
+        }
+      }
+      if (sensor)
+      {
+        break;
+      }
+    }
+  }
+  double lo = this->SensorRange[0], hi = this->SensorRange[1];
+  if (sensor && automaticRange)
+  {
+    const std::string sensorName = sensor->GetName() ? sensor->GetName() : "";
+    if (sensorName == "NormalMach")
+    {
+      lo = 0.8;
+      hi = 1.2;
+    }
+    else if (sensorName == "WeightFunction")
+    {
+      lo = 1.5;
+      hi = 2.0;
+    }
+    else
+    {
+      problem << "SensorRange is [0, 0] (automatic), but there is no automatic range for the sensor '"
+              << sensorName << "' (only for NormalMach and WeightFunction): set SensorRange. ";
+    }
   }
 
   // ---- Step 1: the seeds.
   std::vector<std::uint8_t> seeds(npts, 0);
   if (ncells > 0)
   {
-    int association = -1;
-    vtkDataArray* sensor = this->GetInputArrayToProcess(0, input, association);
-    vtkInformation* info = this->GetInputArrayInformation(0);
-    const char* name = (info && info->Has(vtkDataObject::FIELD_NAME())) ? info->Get(vtkDataObject::FIELD_NAME()) : "";
-    if (!sensor)
+    if (!sensor && automaticArray)
+    {
+      problem << "The sensor array is automatic, and the input has neither NormalMach (Shock Sensor) "
+                 "nor WeightFunction (Weight Function): apply a sensor first, or pick the array. ";
+    }
+    else if (!sensor)
     {
       problem << "The sensor array '" << name << "' is not a point or cell array of the input. ";
     }
@@ -248,7 +303,6 @@ int vtkFeatureCluster::RequestData(
         problem << "The sensor array '" << sensor->GetName() << "' holds NaN or Inf ("
                 << (onPoints ? "point " : "cell ") << bad << "). ";
       }
-      const double lo = this->SensorRange[0], hi = this->SensorRange[1];
       if (onPoints)
       {
         vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
@@ -517,6 +571,16 @@ int vtkFeatureCluster::RequestData(
   output->GetPointData()->AddArray(clusterId);
   output->GetPointData()->AddArray(distance);
   output->GetPointData()->AddArray(medialFlag);
+  // What was selected by: the sensor and its range (both ports).
+  auto addSelection = [&](vtkFieldData* fd) {
+    vtkNew<vtkStringArray> used;
+    used->SetName("SensorArrayUsed");
+    used->InsertNextValue(sensor && sensor->GetName() ? sensor->GetName() : "");
+    fd->AddArray(used);
+    const double range[2] = { lo, hi };
+    fd->AddArray(vtkARMeshKernels::FieldArray("SensorRangeUsed", range, 2));
+  };
+  addSelection(output->GetFieldData());
 
   // ---- Port 1 (rank 0): the medial points, ordered by cluster then position.
   if (rank == 0)
@@ -578,10 +642,10 @@ int vtkFeatureCluster::RequestData(
       clusterSizes->SetValue(static_cast<vtkIdType>(k), result.ClusterSizes[k]);
     }
     medial->GetFieldData()->AddArray(clusterSizes);
+    addSelection(medial->GetFieldData());
     if (result.ClusterSizes.empty())
     {
-      vtkWarningMacro(<< "No cluster: no node has a sensor value in [" << this->SensorRange[0]
-                      << ", " << this->SensorRange[1] << "]"
+      vtkWarningMacro(<< "No cluster: no node has a sensor value in [" << lo << ", " << hi << "]"
                       << (std::count(S.begin(), S.end(), 1) > 0
                              ? " in a cluster of at least MinimumClusterSize nodes."
                              : "."));

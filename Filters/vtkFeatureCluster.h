@@ -22,6 +22,11 @@
  * what a least-squares fit of the medial points (vtkQuadricFit) wants. A
  * cluster only one node thick has every node at distance 0: all are medial.
  *
+ * The sensor array defaults to "(automatic)" (NormalMach, else
+ * WeightFunction) and SensorRange to the range that suits it, so the filter
+ * works as it stands after either sensor; the field data SensorArrayUsed and
+ * SensorRangeUsed (both ports) say what was taken.
+ *
  * Output port 0: the input, shallow-copied, with point arrays FeatureMask
  * (1 for nodes of kept clusters), ClusterId (-1 outside), BoundaryDistance
  * (-1 outside) and MedialPoint (1 at medial points).
@@ -64,11 +69,19 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Closed range of sensor values that selects a node. Default [1.5, 2]
-  /// (a strong feature of the weight function).
+  /// Closed range of sensor values that selects a node. Default [0, 0]:
+  /// automatic, the range that suits the sensor: [0.8, 1.2] for NormalMach
+  /// (ShockSensor: the band around Mn = 1 marks the centre of a captured
+  /// shock), [1.5, 2] for WeightFunction (its strong features). Another
+  /// array needs an explicit range (an error says so).
   vtkSetVector2Macro(SensorRange, double);
   vtkGetVector2Macro(SensorRange, double);
   ///@}
+
+  /// The sensor array name that is resolved by the filter (the default of
+  /// input array 0): NormalMach if the input has it (ShockSensor upstream),
+  /// else WeightFunction (WeightFunction upstream), points first.
+  static constexpr const char* AutomaticArrayName = "(automatic)";
 
   ///@{
   /// Rings of neighbours added to the selection (step 2). Default 1.
@@ -94,7 +107,7 @@ private:
   vtkFeatureCluster(const vtkFeatureCluster&) = delete;
   void operator=(const vtkFeatureCluster&) = delete;
 
-  double SensorRange[2] = { 1.5, 2.0 };
+  double SensorRange[2] = { 0.0, 0.0 };
   int DilationRings = 1;
   int MinimumClusterSize = 10;
 };

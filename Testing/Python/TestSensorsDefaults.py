@@ -21,6 +21,14 @@ with the arrays renamed as other solvers' exports name them:
   is missing; rho is never taken as the pressure;
 - a named array that is missing, VariableSet 7, GasConstant -1: refused by
   name. Every refusal passes the input through unchanged.
+FeatureCluster with its defaults after each sensor:
+- after ShockSensor: NormalMach in [0.8, 1.2] (SensorArrayUsed,
+  SensorRangeUsed on both ports), the same medial points as the explicitly
+  configured run, and QuadricFit's cone on them within 0.5 degree of
+  Taylor-Maccoll;
+- after WeightFunction: WeightFunction in [1.5, 2];
+- with no sensor upstream, or an array without an automatic range: an error
+  that says so.
 """
 import numpy as np
 from paraview.simple import *
@@ -152,5 +160,33 @@ refused(ShockSensor(Input=cone, Pressure=["POINTS", "pressure"]), ["Pressure arr
         "a named Pressure that does not exist")
 refused(ShockSensor(Input=cone, GasConstant=-1.0), ["GasConstant is -1"], "GasConstant -1")
 refused(ShockSensor(Input=cone, VariableSet=7), ["VariableSet is 7"], "VariableSet 7")
+
+# ---- FeatureCluster's defaults follow the sensor upstream.
+sensor = ShockSensor(Input=cone, Gamma=GAMMA)
+auto = FeatureCluster(Input=sensor)
+explicit = FeatureCluster(Input=sensor, SensorArray=["POINTS", "NormalMach"], SensorRange=[0.8, 1.2])
+a0, a1, e1 = artest.fetch(auto), artest.fetch(auto, 1), artest.fetch(explicit, 1)
+used = lambda d: (d.FieldData["SensorArrayUsed"].GetValue(0), list(artest.field(d, "SensorRangeUsed")))
+check(used(a0) == ("NormalMach", [0.8, 1.2]) and used(a1) == used(a0),
+      "FeatureCluster after ShockSensor: %s in %s (both ports)" % used(a0))
+check(a1.GetNumberOfPoints() == e1.GetNumberOfPoints() > 50
+      and np.array_equal(np.asarray(a1.Points), np.asarray(e1.Points)),
+      "FeatureCluster after ShockSensor: the %d medial points of the explicit run" % a1.GetNumberOfPoints())
+fit = artest.fetch(QuadricFit(Input=OutputPort(auto, 1), Domain=cone, Template="Cone", ClusterId=0))
+half, theory = artest.field(fit, "HalfAngle")[0], artest.field(artest.fetch(cone), "ShockAngleTaylorMaccoll")[0]
+check(abs(half - theory) < 0.5, "the cone fitted to the default clusters: %.2f deg (Taylor-Maccoll %.2f)" % (half, theory))
+w = WeightFunction(Input=cone, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
+check(used(artest.fetch(FeatureCluster(Input=w))) == ("WeightFunction", [1.5, 2.0]),
+      "FeatureCluster after WeightFunction: %s in %s" % used(artest.fetch(FeatureCluster(Input=w))))
+before = len(messages.GetOutput())
+out = artest.fetch(FeatureCluster(Input=cone))
+text = messages.GetOutput()[before:]
+check("neither NormalMach" in text and "FeatureMask" not in out.PointData.keys(),
+      "FeatureCluster with no sensor upstream: refused, says to apply a sensor first")
+before = len(messages.GetOutput())
+out = artest.fetch(FeatureCluster(Input=cone, SensorArray=["POINTS", "p"]))
+text = messages.GetOutput()[before:]
+check("no automatic range for the sensor 'p'" in text and "FeatureMask" not in out.PointData.keys(),
+      "FeatureCluster on p with the automatic range: refused, asks for SensorRange")
 
 artest.finish()

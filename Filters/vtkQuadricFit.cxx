@@ -432,17 +432,42 @@ int vtkQuadricFit::RequestData(
   }
 
   // ---- Fit (Eq. 4, then the geometric refinement).
+  if (this->Template < PLANE || this->Template > AUTOMATIC)
+  {
+    std::ostringstream msg;
+    msg << "Template is " << this->Template
+        << "; it must be 0 (Plane), 1 (Quadric), 2 (Cone), 3 (Quartic) or 4 (Automatic).";
+    return fail(msg.str());
+  }
+  // The points' typical local size (the median l_j), for the automatic choice.
+  double typical = 0.0;
+  if (!sizes.empty())
+  {
+    typical = Median(sizes);
+  }
+  else if (haveWeight)
+  {
+    std::vector<double> inv(n);
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      inv[j] = 1.0 / w[j];
+    }
+    typical = Median(inv);
+  }
   ar::SurfaceFitOptions options;
-  options.Template = static_cast<ar::SurfaceTemplate>(this->Template);
+  options.Template = this->Template == AUTOMATIC ? ar::SurfaceTemplate::Plane
+                                                 : static_cast<ar::SurfaceTemplate>(this->Template);
   options.AutomaticAxis = this->UseAutomaticAxis;
   std::copy(this->AxisOrigin, this->AxisOrigin + 3, options.AxisOrigin);
   std::copy(this->AxisDirection, this->AxisDirection + 3, options.AxisDirection);
   options.GeometricRefinement = this->GeometricRefinement;
   ar::SurfaceFitResult fit;
   std::string error;
-  const bool fitted = this->RobustFit
-    ? ar::FitSurfaceRobust(xyz.data(), w.data(), n, options, fit, error)
-    : ar::FitSurface(xyz.data(), w.data(), n, options, fit, error);
+  double residuals[3] = { 0.0, 0.0, 0.0 }; // plane, cone, quadric (automatic template)
+  const bool fitted = this->Template == AUTOMATIC
+    ? ar::FitSurfaceAutomatic(xyz.data(), w.data(), n, options, this->RobustFit, typical, fit, error, residuals)
+    : this->RobustFit ? ar::FitSurfaceRobust(xyz.data(), w.data(), n, options, fit, error)
+                      : ar::FitSurface(xyz.data(), w.data(), n, options, fit, error);
   if (!fitted)
   {
     return fail(error);
@@ -457,18 +482,9 @@ int vtkQuadricFit::RequestData(
   double h = this->SurfaceEdgeLength;
   if (!(h > 0.0))
   {
-    if (!sizes.empty())
+    if (typical > 0.0)
     {
-      h = Median(sizes);
-    }
-    else if (haveWeight)
-    {
-      std::vector<double> inv(n);
-      for (std::size_t j = 0; j < n; ++j)
-      {
-        inv[j] = 1.0 / w[j];
-      }
-      h = Median(inv);
+      h = typical;
     }
     else
     {
@@ -657,6 +673,11 @@ int vtkQuadricFit::RequestData(
   fd->AddArray(name);
   fd->AddArray(vtkARMeshKernels::FieldArray("Coefficients", fit.Coefficients.data(), static_cast<int>(fit.Coefficients.size())));
   fd->AddArray(vtkARMeshKernels::FieldArray("RMSResidual", &fit.RMSResidual, 1));
+  if (this->Template == AUTOMATIC)
+  {
+    // Each candidate's RMS residual (plane, cone, quadric; NaN: not fitted).
+    fd->AddArray(vtkARMeshKernels::FieldArray("TemplateResiduals", residuals, 3));
+  }
   fd->AddArray(vtkARMeshKernels::FieldArray("WeightedRMSResidual", &fit.WeightedRMSResidual, 1));
   const double count = static_cast<double>(n);
   fd->AddArray(vtkARMeshKernels::FieldArray("NumberOfFitPoints", &count, 1));
@@ -693,8 +714,9 @@ int vtkQuadricFit::RequestData(
 void vtkQuadricFit::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  static const char* names[] = { "Plane", "Quadric", "Cone", "Quartic" };
-  os << indent << "Template: " << names[this->Template] << "\n";
+  static const char* names[] = { "Plane", "Quadric", "Cone", "Quartic", "Automatic" };
+  os << indent << "Template: "
+     << (this->Template >= PLANE && this->Template <= AUTOMATIC ? names[this->Template] : "(invalid)") << "\n";
   os << indent << "ClusterId: " << this->ClusterId << "\n";
   os << indent << "AxisOrigin: " << this->AxisOrigin[0] << " " << this->AxisOrigin[1] << " "
      << this->AxisOrigin[2] << "\n";

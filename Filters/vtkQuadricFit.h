@@ -99,7 +99,8 @@ public:
     PLANE = 0,
     QUADRIC = 1,
     CONE = 2,
-    QUARTIC = 3
+    QUARTIC = 3,
+    AUTOMATIC = 4 ///< plane, cone or quadric, by the fits' residuals (ar::FitSurfaceAutomatic)
   };
 
   /// The domain to trim the surface to (input port 1, optional).
@@ -107,8 +108,12 @@ public:
   void SetDomainData(vtkDataObject* data) { this->SetInputData(1, data); }
 
   ///@{
-  /// The template surface. Default PLANE.
-  vtkSetClampMacro(Template, int, PLANE, QUARTIC);
+  /// The template surface. Default AUTOMATIC: the plane, the cone and the
+  /// quadric are fitted and the simplest whose RMS residual is within 1.25 x
+  /// the best + 0.1 x the points' median local size is kept (field data
+  /// Template names it, TemplateResiduals gives the three residuals). Not
+  /// clamped: a value outside 0..4 is refused with an error naming it.
+  vtkSetMacro(Template, int);
   vtkGetMacro(Template, int);
   ///@}
 
@@ -185,7 +190,7 @@ private:
   vtkQuadricFit(const vtkQuadricFit&) = delete;
   void operator=(const vtkQuadricFit&) = delete;
 
-  int Template = PLANE;
+  int Template = AUTOMATIC;
   int ClusterId = 0;
   double AxisOrigin[3] = { 0.0, 0.0, 0.0 };
   double AxisDirection[3] = { 0.0, 0.0, 1.0 };

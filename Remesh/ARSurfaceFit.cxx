@@ -1497,4 +1497,49 @@ bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n
   }
   return true;
 }
+bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_t n,
+  const SurfaceFitOptions& options, bool robust, double size, SurfaceFitResult& result, std::string& error,
+  double residuals[3])
+{
+  const SurfaceTemplate order[3] = { SurfaceTemplate::Plane, SurfaceTemplate::Cone, SurfaceTemplate::Quadric };
+  SurfaceFitResult fits[3];
+  bool ok[3] = { false, false, false };
+  std::string why;
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k)
+  {
+    SurfaceFitOptions o = options;
+    o.Template = order[k];
+    std::string e;
+    ok[k] = robust ? FitSurfaceRobust(points, weights, n, o, fits[k], e) : FitSurface(points, weights, n, o, fits[k], e);
+    if (!ok[k])
+    {
+      why += std::string(why.empty() ? "" : "; ") + SurfaceTemplateName(order[k]) + ": " + e;
+    }
+    if (residuals)
+    {
+      residuals[k] = ok[k] ? fits[k].RMSResidual : std::numeric_limits<double>::quiet_NaN();
+    }
+    if (ok[k])
+    {
+      best = std::min(best, fits[k].RMSResidual);
+    }
+  }
+  if (!std::isfinite(best))
+  {
+    error = "no template could be fitted (" + why + ")";
+    return false;
+  }
+  const double bound = AutomaticTemplateRatio * best + AutomaticTemplateSlack * std::max(size, 0.0);
+  for (int k = 0; k < 3; ++k)
+  {
+    if (ok[k] && fits[k].RMSResidual <= bound)
+    {
+      result = fits[k];
+      return true;
+    }
+  }
+  error = "internal: no template within the bound"; // unreachable: the best one is within it
+  return false;
+}
 }

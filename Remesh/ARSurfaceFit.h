@@ -148,6 +148,22 @@ bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n
   const SurfaceFitOptions& options, SurfaceFitResult& result, std::string& error,
   int iterations = 10, std::vector<double>* robustWeights = nullptr);
 
+/// The automatic choice of a template (the paper leaves it to the user): the
+/// plane, the cone and the quadric are fitted (robustly when `robust`), and
+/// the simplest of them (in that order) whose RMS residual is within
+/// AutomaticTemplateRatio x the best one's + AutomaticTemplateSlack x `size`
+/// wins. `size` is the points' typical local mesh size (the median l_j): a
+/// residual a tenth of a cell above the best is no better surface for the
+/// mesher, so the simpler template is kept (a plane shock is not fitted by
+/// a cone of half-angle 89 degrees). `residuals`, if given, gets the three
+/// RMS residuals (NaN where that template could not be fitted). False with
+/// `error` (every fit's failure) when none could be fitted.
+constexpr double AutomaticTemplateRatio = 1.25;
+constexpr double AutomaticTemplateSlack = 0.1;
+bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_t n,
+  const SurfaceFitOptions& options, bool robust, double size, SurfaceFitResult& result, std::string& error,
+  double residuals[3] = nullptr);
+
 /// Signed orthogonal distance of p from the fitted surface (positive on the
 /// +FrameZ side of a graph surface or plane, outside a cone).
 double SurfaceDistance(const SurfaceFitResult& fit, const double p[3]);

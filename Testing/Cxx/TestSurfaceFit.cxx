@@ -636,3 +636,50 @@ TEST(SurfaceFit, RobustFitIgnoresAWallCutBranch)
   EXPECT_LT(AngleDeg({ plain.Normal[0], plain.Normal[1], plain.Normal[2] },
               { robust.Normal[0], robust.Normal[1], robust.Normal[2] }), 0.05);
 }
+
+TEST(SurfaceFit, AutomaticTemplatePicksTheShape)
+{
+  // Noise 0.005 on points whose local mesh size is 0.02 (a shock's medial
+  // points scatter by a fraction of a cell): each shape gets its template.
+  const double size = 0.02;
+  auto automatic = [&](const Cloud& c, ar::SurfaceFitResult& r, double residuals[3]) {
+    ar::SurfaceFitOptions o;
+    std::string error;
+    const bool ok = ar::FitSurfaceAutomatic(c.X.data(), c.W.data(), c.Size(), o, true, size, r, error, residuals);
+    EXPECT_TRUE(ok) << error;
+    std::printf("automatic: %s (residuals plane %.5f, cone %.5f, quadric %.5f)\n", ar::SurfaceTemplateName(r.Template),
+      residuals[0], residuals[1], residuals[2]);
+  };
+  double res[3];
+  ar::SurfaceFitResult r;
+  const V n = Unit({ 0.3, -0.2, 1.0 });
+  automatic(PlaneCloud({ 0.1, 0.2, 0.3 }, n, 0.005, 2000, 7), r, res);
+  EXPECT_EQ(r.Template, ar::SurfaceTemplate::Plane);
+  EXPECT_LT(AngleDeg({ r.Normal[0], r.Normal[1], r.Normal[2] }, n), 0.2);
+  EXPECT_LE(r.RMSResidual, ar::AutomaticTemplateRatio * std::min({ res[0], res[1], res[2] }) +
+      ar::AutomaticTemplateSlack * size);
+
+  const V apex{ 0.1, 0.2, -0.3 }, axis = Unit({ 1.0, 0.2, 0.1 });
+  automatic(ConeCloud(apex, axis, 30.0, 1.0, 3.0, 0.0, Pi, 0.005, 3000, 2), r, res);
+  EXPECT_EQ(r.Template, ar::SurfaceTemplate::Cone);
+  EXPECT_NEAR(r.HalfAngleDegrees, 30.0, 0.2);
+  EXPECT_GT(res[0], 10.0 * res[1]) << "the plane does not fit a cone";
+
+  // A paraboloid cap, as a bow shock's vertex region.
+  const V origin{ 0.0, 0.0, 0.0 }, z = Unit({ -1.0, 0.1, 0.0 });
+  automatic(GraphCloud(origin, z, 2, { 0.0, 0.0, 0.0, 0.5, 0.0, 0.5 }, 1.0, 0.005, 0.0, 3000, 5), r, res);
+  EXPECT_EQ(r.Template, ar::SurfaceTemplate::Quadric);
+  EXPECT_GT(res[1], 2.0 * res[2]) << "a cone does not fit a paraboloid's vertex";
+
+  // Too few points for any template: every failure is named.
+  Cloud two;
+  two.Add({ 0, 0, 0 }, 1.0);
+  two.Add({ 1, 0, 0 }, 1.0);
+  ar::SurfaceFitOptions o;
+  std::string error;
+  EXPECT_FALSE(ar::FitSurfaceAutomatic(two.X.data(), two.W.data(), two.Size(), o, true, size, r, error, res));
+  EXPECT_NE(error.find("Plane:"), std::string::npos) << error;
+  EXPECT_NE(error.find("Cone:"), std::string::npos) << error;
+  EXPECT_NE(error.find("Quadric:"), std::string::npos) << error;
+  EXPECT_TRUE(std::isnan(res[0]) && std::isnan(res[1]) && std::isnan(res[2]));
+}

@@ -1,4 +1,6 @@
-"""ShockSensor with its defaults on a solution as solvers write it (the
+"""The filters' defaults on solutions as solvers write them.
+
+ShockSensor with its defaults on a solution as solvers write it (the
 OpenFOAM cone, Data/cone20Ma2p5.vtu, non-dimensional gas R = 1/1.4), and
 with the arrays renamed as other solvers' exports name them:
 - every array property's default is "(automatic)", also when the input's
@@ -29,6 +31,13 @@ FeatureCluster with its defaults after each sensor:
 - after WeightFunction: WeightFunction in [1.5, 2];
 - with no sensor upstream, or an array without an automatic range: an error
   that says so.
+The whole chain with every default (ShockSensor -> FeatureCluster ->
+QuadricFit with its Domain) on the three bundled solutions: the automatic
+template is the plane on the wedge (theta-beta-Mach within 0.5 degree) and
+on the analytic oblique shock, the cone on the cone (Taylor-Maccoll within
+0.5 degree); TemplateResiduals holds the
+three candidates' residuals and the chosen one's is within the documented
+bound; a Template of 9 is refused by name.
 """
 import numpy as np
 from paraview.simple import *
@@ -188,5 +197,45 @@ out = artest.fetch(FeatureCluster(Input=cone, SensorArray=["POINTS", "p"]))
 text = messages.GetOutput()[before:]
 check("no automatic range for the sensor 'p'" in text and "FeatureMask" not in out.PointData.keys(),
       "FeatureCluster on p with the automatic range: refused, asks for SensorRange")
+
+# ---- The whole chain with its defaults: the template follows the shock's shape.
+def chain(name):
+    r = XMLUnstructuredGridReader(FileName=[artest.data(name)])
+    clusters = FeatureCluster(Input=ShockSensor(Input=r))
+    medial = artest.fetch(clusters, 1)
+    ids = np.asarray(medial.PointData["ClusterId"])
+    size = np.sort(np.asarray(medial.PointData["LocalSize"])[ids == 0])[(ids == 0).sum() // 2]
+    return r, artest.fetch(QuadricFit(Input=OutputPort(clusters, 1), Domain=r)), size
+
+
+def chosen(fit, size, label):
+    t = fit.FieldData["Template"].GetValue(0)
+    res = artest.field(fit, "TemplateResiduals")
+    best = np.nanmin(res)
+    check(len(res) == 3 and artest.field(fit, "RMSResidual")[0] <= 1.25 * best + 0.1 * size + 1e-15,
+          "%s: %s chosen, residuals plane / cone / quadric %s (median local size %.4f)" % (label, t, res, size))
+    return t
+
+
+r, fit, size = chain("wedge15Ma5.vtu")
+src = artest.fetch(r)
+t = chosen(fit, size, "wedge")
+normal = artest.field(fit, "Normal") if t == "Plane" else np.array([np.nan] * 3)
+beta = np.degrees(np.arctan2(abs(normal[0]), abs(normal[1])))  # the shock plane's angle from the x axis
+check(t == "Plane" and abs(beta - artest.field(src, "ShockAngleThetaBetaMach")[0]) < 0.5,
+      "wedge: the plane at %.2f deg (theta-beta-Mach %.2f)" % (beta, artest.field(src, "ShockAngleThetaBetaMach")[0]))
+r, fit, size = chain("oblique_shock_unstructured.vtu")
+t = chosen(fit, size, "oblique shock")
+# (the plane's angle on this smeared analytic band depends on the Mn range,
+# 0.4 to 2.3 degrees: the fit's bullet of the defaults issue, not the
+# template's; only the choice is checked here)
+check(t == "Plane", "oblique shock: the plane is chosen")
+r, fit, size = chain("cone20Ma2p5.vtu")
+t = chosen(fit, size, "cone")
+half = artest.field(fit, "HalfAngle")[0] if t == "Cone" else np.nan
+check(t == "Cone" and abs(half - theory) < 0.5, "cone: the cone at %.2f deg (Taylor-Maccoll %.2f)" % (half, theory))
+before = len(messages.GetOutput())
+QuadricFit(Input=OutputPort(auto, 1), Domain=cone, Template=9).UpdatePipeline()
+check("Template is 9" in messages.GetOutput()[before:], "QuadricFit Template 9: refused by name")
 
 artest.finish()

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARSurfaceRemesh.h"
 
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -101,5 +104,41 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
     }
   }
   return true;
+}
+bool SurfacesIntersect(const std::vector<double>& pointsA, const std::vector<std::int64_t>& trianglesA,
+  const std::vector<double>& pointsB, const std::vector<std::int64_t>& trianglesB)
+{
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Triangle = K::Triangle_3;
+  using Iterator = std::vector<Triangle>::const_iterator;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, Iterator>>>;
+  auto triangles = [](const std::vector<double>& p, const std::vector<std::int64_t>& t) {
+    std::vector<Triangle> out;
+    out.reserve(t.size() / 3);
+    auto point = [&](std::int64_t i) { return K::Point_3(p[3 * i], p[3 * i + 1], p[3 * i + 2]); };
+    for (std::size_t k = 0; k + 2 < t.size(); k += 3)
+    {
+      const Triangle tri(point(t[k]), point(t[k + 1]), point(t[k + 2]));
+      if (!tri.is_degenerate())
+      {
+        out.push_back(tri);
+      }
+    }
+    return out;
+  };
+  const std::vector<Triangle> a = triangles(pointsA, trianglesA), b = triangles(pointsB, trianglesB);
+  if (a.empty() || b.empty())
+  {
+    return false;
+  }
+  Tree tree(a.begin(), a.end());
+  for (const Triangle& t : b)
+  {
+    if (tree.do_intersect(t))
+    {
+      return true;
+    }
+  }
+  return false;
 }
 }

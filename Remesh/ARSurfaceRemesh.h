@@ -25,6 +25,15 @@ namespace ar
 bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
   double edgeLength, std::vector<double>& outPoints, std::vector<std::int64_t>& outTriangles,
   std::string& error);
+
+/**
+ * Whether two triangulated surfaces (x y z per point, three point ids per
+ * triangle) cross or touch: a triangle of one intersects a triangle of the
+ * other (CGAL AABB tree of the first, exact predicates). Surfaces that
+ * merely come close do not count.
+ */
+bool SurfacesIntersect(const std::vector<double>& pointsA, const std::vector<std::int64_t>& trianglesA,
+  const std::vector<double>& pointsB, const std::vector<std::int64_t>& trianglesB);
 }
 
 #endif

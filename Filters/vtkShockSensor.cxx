@@ -557,15 +557,25 @@ int vtkShockSensor::RequestData(
   }
 
   // ---- Local peak of |grad p|: at each point, the largest |grad p| over
-  // the points of the cells around it (its two-ring).
+  // the points of the cells around it (its two-ring); and whether p varies
+  // at all there: the largest relative range of p, (max - min) / mean over a
+  // cell's points, of the cells around the point. Where p is uniform to
+  // FlatPressure (a free stream) grad p is round-off, its direction and Mn
+  // are noise at any threshold relative to the (round-off) maximum: those
+  // points get Mn = 0 and their cells are never shock cells.
+  constexpr double FlatPressure = 1e-5;
   std::vector<double> localPeak(npts, 0.0);
+  std::vector<double> localRange(npts, 0.0);
+  std::vector<double> cellRange(static_cast<size_t>(ncells), 0.0);
   {
-    vtkSMPThreadLocal<std::vector<double>> partial;
+    vtkSMPThreadLocal<std::vector<double>> partial, partialRange;
     vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
       std::vector<double>& mx = partial.Local();
+      std::vector<double>& rx = partialRange.Local();
       if (mx.empty())
       {
         mx.assign(npts, 0.0);
+        rx.assign(npts, 0.0);
       }
       for (vtkIdType c = b; c < e; ++c)
       {
@@ -575,14 +585,21 @@ int vtkShockSensor::RequestData(
         }
         const vtkIdType* ids = mesh.CellPoints(c);
         const int n = mesh.CellSize(c);
-        double cmax = 0.0;
+        double cmax = 0.0, plo = VTK_DOUBLE_MAX, phi = -VTK_DOUBLE_MAX, psum = 0.0;
         for (int a = 0; a < n; ++a)
         {
           cmax = std::max(cmax, pointInfo[3 * static_cast<size_t>(ids[a])]);
+          const double pa = state[static_cast<size_t>(ids[a]) * NC + 3];
+          plo = std::min(plo, pa);
+          phi = std::max(phi, pa);
+          psum += pa;
         }
+        const double range = psum > 0.0 ? (phi - plo) * n / psum : 0.0;
+        cellRange[c] = range;
         for (int a = 0; a < n; ++a)
         {
           mx[ids[a]] = std::max(mx[ids[a]], cmax);
+          rx[ids[a]] = std::max(rx[ids[a]], range);
         }
       }
     });
@@ -591,6 +608,23 @@ int vtkShockSensor::RequestData(
       for (vtkIdType p = 0; p < static_cast<vtkIdType>(mx.size()); ++p)
       {
         localPeak[p] = std::max(localPeak[p], mx[p]);
+      }
+    }
+    for (const std::vector<double>& rx : partialRange)
+    {
+      for (vtkIdType p = 0; p < static_cast<vtkIdType>(rx.size()); ++p)
+      {
+        localRange[p] = std::max(localRange[p], rx[p]);
+      }
+    }
+  }
+  {
+    double* outMn = normalMach->GetPointer(0);
+    for (vtkIdType p = 0; p < npts; ++p)
+    {
+      if (localRange[p] < FlatPressure)
+      {
+        outMn[p] = 0.0;
       }
     }
   }
@@ -628,7 +662,8 @@ int vtkShockSensor::RequestData(
         peak = std::max(peak, localPeak[ids[a]]);
       }
       const bool crossed = (lo < 1.0 && hi >= 1.0) || (lo <= 1.0 && hi > 1.0);
-      const bool strong = gsum / n >= gradLimit && gsum / n >= localFraction * peak && gsum > 0.0;
+      const bool strong = gsum / n >= gradLimit && gsum / n >= localFraction * peak && gsum > 0.0 &&
+        cellRange[c] >= FlatPressure;
       const bool compression = !compressionOnly || vgsum > 0.0;
       const bool upstream = machMax >= machLo && machMax <= machHi;
       if (!(crossed && strong && compression && upstream))

@@ -21,6 +21,8 @@ with the arrays renamed as other solvers' exports name them:
 - only the conserved variables: the conserved set;
 - no pressure among U, rho, T (and no conserved set): an error naming what
   is missing; rho is never taken as the pressure;
+- a uniform stream: NormalMach 0 and no shock cell (its gradients are
+  round-off, their direction noise);
 - a named array that is missing, VariableSet 7, GasConstant -1: refused by
   name. Every refusal passes the input through unchanged.
 FeatureCluster with its defaults after each sensor:
@@ -169,6 +171,19 @@ refused(ShockSensor(Input=cone, Pressure=["POINTS", "pressure"]), ["Pressure arr
         "a named Pressure that does not exist")
 refused(ShockSensor(Input=cone, GasConstant=-1.0), ["GasConstant is -1"], "GasConstant -1")
 refused(ShockSensor(Input=cone, VariableSet=7), ["VariableSet is 7"], "VariableSet 7")
+
+# ---- A uniform stream: grad p is round-off, Mn noise; nothing is a shock.
+g = vtkUnstructuredGrid()
+g.DeepCopy(base)
+for name in ("U", "p", "rho"):
+    a = g.GetPointData().GetArray(name)
+    for c in range(a.GetNumberOfComponents()):
+        a.FillComponent(c, a.GetComponent(0, c))
+uniform = PVTrivialProducer()
+uniform.GetClientSideObject().SetOutput(g)
+out = artest.fetch(ShockSensor(Input=uniform, Gamma=GAMMA))
+check(np.abs(np.asarray(out.PointData["NormalMach"])).max() == 0.0 and np.asarray(out.CellData["ShockCells"]).sum() == 0,
+      "a uniform stream: NormalMach 0 everywhere, no shock cell (round-off gradients are not a shock)")
 
 # ---- FeatureCluster's defaults follow the sensor upstream.
 sensor = ShockSensor(Input=cone, Gamma=GAMMA)

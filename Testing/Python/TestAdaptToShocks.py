@@ -1,0 +1,149 @@
+"""AdaptToShocks: a solution in, the adapted mesh out, in one call with no
+property set.
+- The OpenFOAM cone as loaded: the same mesh as the separate filters with
+  their defaults (ShockSensor -> FeatureCluster -> QuadricFit of cluster 0
+  -> EmbeddedRemesh): node and cell counts, the embedded triangles, p at the
+  nodes; port 1 one surface, SurfaceId 0, its template Cone, within 0.5
+  degree of Taylor-Maccoll; refined at the shock (SurfaceSizeRatio < 0.5),
+  new tetrahedra at least 10 degrees; the stage times in the field data.
+- The OpenFOAM wedge (one cell deep): a plane within 0.5 degree of
+  theta-beta-Mach, still one cell deep (2-D mode); the small cluster split
+  off at the shock's foot, whose surface crosses the main one, is left out
+  with a warning.
+- The cone as the OpenFOAM reader gives it (a multiblock of internalMesh
+  and patches): a multiblock out, the patches' face counts unchanged.
+- ClusterTemplates [0, Plane] overrides the automatic choice.
+- Bad and borderline input, each an error naming the cause and the input
+  passed through: a uniform flow (no shock), no flow arrays, Mode 3,
+  MinimumClusterFraction 0.
+"""
+import numpy as np
+from paraview.simple import *
+from paraview import servermanager
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+
+import artest
+from artest import check
+
+artest.load_plugin(globals())
+messages = vtkStringOutputWindow()
+vtkOutputWindow.SetInstance(messages)
+
+cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
+src = artest.fetch(cone)
+f = lambda d, n: artest.field(d, n)[0]
+
+# ---- The cone in one call, against the separate filters.
+adapt = AdaptToShocks(Input=cone)
+out, surf = artest.fetch(adapt), artest.fetch(adapt, 1)
+clusters = FeatureCluster(Input=ShockSensor(Input=cone))
+fit = QuadricFit(Input=OutputPort(clusters, 1), Domain=cone, ClusterId=0)
+separate = EmbeddedRemesh(Input=cone, Surfaces=[fit])
+ref = artest.fetch(separate)
+check(out.GetNumberOfPoints() == ref.GetNumberOfPoints() and out.GetNumberOfCells() == ref.GetNumberOfCells()
+      and f(out, "SurfaceTriangles") == f(ref, "SurfaceTriangles"),
+      "cone: %d nodes, %d cells, %d embedded triangles, as the separate filters (%d, %d, %d)"
+      % (out.GetNumberOfPoints(), out.GetNumberOfCells(), f(out, "SurfaceTriangles"), ref.GetNumberOfPoints(),
+         ref.GetNumberOfCells(), f(ref, "SurfaceTriangles")))
+check(np.array_equal(np.asarray(out.Points), np.asarray(ref.Points))
+      and np.array_equal(np.asarray(out.PointData["p"]), np.asarray(ref.PointData["p"])),
+      "cone: the same points and interpolated p as the separate filters")
+templates = out.FieldData["SurfaceTemplates"]
+half = f(artest.fetch(fit), "HalfAngle")
+theory = f(src, "ShockAngleTaylorMaccoll")
+check(f(out, "NumberOfSurfaces") == 1 and templates.GetValue(0) == "Cone" and abs(half - theory) < 0.5,
+      "cone: one surface, a cone of %.2f deg (Taylor-Maccoll %.2f)" % (half, theory))
+ids = np.asarray(surf.CellData["SurfaceId"])
+check(surf.GetNumberOfCells() == artest.fetch(fit).GetNumberOfCells() and set(ids) == {0},
+      "cone: port 1 holds the fitted surface (%d triangles), SurfaceId 0" % surf.GetNumberOfCells())
+check(f(out, "SurfaceSizeRatio") < 0.5 and f(out, "MinDihedralAngleNew") >= 10.0
+      and f(out, "OutputNodes") > f(out, "InputNodes"),
+      "cone: refined at the shock (size ratio %.2f), new tetrahedra >= %.1f deg, %d -> %d nodes"
+      % (f(out, "SurfaceSizeRatio"), f(out, "MinDihedralAngleNew"), f(out, "InputNodes"), f(out, "OutputNodes")))
+check(all(n in out.FieldData.keys() for n in ("SecondsSensor", "SecondsClusters", "SecondsFit", "SecondsRemesh")),
+      "cone: the stage times are in the field data (sensor %.2f, clusters %.2f, fit %.2f, remesh %.2f s)"
+      % tuple(f(out, n) for n in ("SecondsSensor", "SecondsClusters", "SecondsFit", "SecondsRemesh")))
+
+# ---- The wedge, one cell deep.
+wedge = XMLUnstructuredGridReader(FileName=[artest.data("wedge15Ma5.vtu")])
+before = len(messages.GetOutput())
+adapt_w = AdaptToShocks(Input=wedge)
+out_w, surf_w = artest.fetch(adapt_w), artest.fetch(adapt_w, 1)
+text = messages.GetOutput()[before:]
+W = artest.fetch(wedge)
+n = artest.field(artest.fetch(QuadricFit(Input=OutputPort(FeatureCluster(Input=ShockSensor(Input=wedge)), 1),
+                                         Domain=wedge, ClusterId=0)), "Normal")
+beta = np.degrees(np.arctan2(abs(n[0]), abs(n[1])))
+check(out_w.FieldData["SurfaceTemplates"].GetValue(0) == "Plane" and f(out_w, "NumberOfSurfaces") == 1
+      and abs(beta - f(W, "ShockAngleThetaBetaMach")) < 0.5,
+      "wedge: one plane at %.2f deg (theta-beta-Mach %.2f)" % (beta, f(W, "ShockAngleThetaBetaMach")))
+check(f(out_w, "TwoDimensional") == 1 and "crosses the surface of cluster 0 and is left out" in text,
+      "wedge: 2-D mode; the shock foot's crossing piece is left out with a warning")
+
+# ---- The OpenFOAM reader's multiblock.
+def cone_patches(c, b):
+    names = np.full(len(c), "cone", dtype=object)
+    names[np.abs(c[:, 0] - b[0]) < 1e-6] = "inlet"
+    names[np.abs(c[:, 0] - b[1]) < 1e-6] = "outlet"
+    names[np.abs(c[:, 2] - b[4]) < 1e-6] = "symmetry"
+    names[(np.hypot(c[:, 1], c[:, 2]) > 0.6 * b[3]) & (names == "cone")] = "farfield"
+    return names
+
+
+patches = ["inlet", "outlet", "symmetry", "farfield", "cone"]
+mb, names = artest.openfoam_multiblock(src.VTKObject, cone_patches, patches)
+source = PVTrivialProducer()
+source.GetClientSideObject().SetOutput(mb)
+adapt_mb = AdaptToShocks(Input=source)
+adapt_mb.UpdatePipeline()
+out_mb = servermanager.Fetch(adapt_mb)
+faces = {patches[i]: out_mb.GetBlock(1).GetBlock(i).GetNumberOfCells() for i in range(len(patches))}
+check(out_mb.IsA("vtkMultiBlockDataSet") and out_mb.GetBlock(0).GetNumberOfPoints() == out.GetNumberOfPoints()
+      and faces == {p: int((names == p).sum()) for p in patches},
+      "multiblock: adapted internalMesh (%d nodes), patches unchanged %s" % (out_mb.GetBlock(0).GetNumberOfPoints(), faces))
+
+# ---- A template named per cluster.
+over = artest.fetch(AdaptToShocks(Input=cone, ClusterTemplates=[0, 0]))
+check(over.FieldData["SurfaceTemplates"].GetValue(0) == "Plane",
+      "ClusterTemplates [0, 0]: cluster 0 gets a plane")
+
+
+# ---- Bad and borderline input.
+def refused(proxy, fragments, label):
+    before = len(messages.GetOutput())
+    o = artest.fetch(proxy)
+    text = messages.GetOutput()[before:]
+    s = artest.fetch(proxy, 1)
+    check(all(x in text for x in fragments) and "Region" not in o.CellData.keys() and s.GetNumberOfCells() == 0
+          and o.GetNumberOfCells() == src.GetNumberOfCells(),
+          "%s: refused (%s), the input passes through, no surface" % (label, " / ".join(fragments)))
+
+
+def uniform_flow():
+    g = vtkUnstructuredGrid()
+    g.DeepCopy(src.VTKObject)
+    for name in ("U", "p", "rho", "T", "rhoU", "rhoE"):
+        a = g.GetPointData().GetArray(name)
+        for c in range(a.GetNumberOfComponents()):
+            a.FillComponent(c, a.GetComponent(0, c))
+        g.GetCellData().RemoveArray(name)
+    p = PVTrivialProducer()
+    p.GetClientSideObject().SetOutput(g)
+    return p
+
+
+def bare_mesh():
+    g = vtkUnstructuredGrid()
+    g.CopyStructure(src.VTKObject)
+    p = PVTrivialProducer()
+    p.GetClientSideObject().SetOutput(g)
+    return p
+
+
+refused(AdaptToShocks(Input=uniform_flow()), ["No shock found"], "a uniform flow")
+refused(AdaptToShocks(Input=bare_mesh()), ["No complete flow state", "the shock sensor could not run"], "no flow arrays")
+refused(AdaptToShocks(Input=cone, Mode=3), ["Mode is 3"], "Mode 3")
+refused(AdaptToShocks(Input=cone, MinimumClusterFraction=0.0), ["MinimumClusterFraction is 0"], "MinimumClusterFraction 0")
+
+artest.finish()

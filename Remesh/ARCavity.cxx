@@ -508,9 +508,31 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   // so that a full edge of room stays between the closure and the kept
   // faces (with half an edge TetGen had to build slivers against both).
   const double margin = options.BoundaryMargin + (layers ? 1.0 : 0.0);
-  // ---- Trim S: inside V and at least BoundaryMargin * l_s from its
-  // boundary; outside the locked cells and at least BoundaryMargin * l_s
-  // from them, and no triangle crossing them.
+  // ---- Trim S: inside V and at least BoundaryMargin * max(l_s, l_b) from
+  // its boundary, l_b the longest edge of the nearest boundary face (the kept
+  // mesh's size there); outside the locked cells and at least
+  // BoundaryMargin * l_s from them, and no triangle crossing them. With S
+  // finer than V (the usual refinement) the gap left between S's border and
+  // the kept boundary faces is then about one of those faces, room for the
+  // refill to grade from S's size to theirs: a gap of one S edge against
+  // faces four times larger left TetGen only slivers there.
+  // (l_b is capped by V's largest l_v: BoundaryTriangles may describe the
+  // domain by larger triangles than its mesh faces)
+  const double lvMax = lv.empty() ? 0.0 : *std::max_element(lv.begin(), lv.end());
+  auto boundaryClearance = [&](const Point& p, double lsi) {
+    const auto hit = tree.closest_point_and_primitive(p);
+    const Triangle& f = *hit.second;
+    double lb = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      lb = std::max(lb, std::sqrt(CGAL::to_double(CGAL::squared_distance(f.vertex(k), f.vertex((k + 1) % 3)))));
+    }
+    lb = std::min(lb, lvMax);
+    // BoundaryMargin kept cells (or S edges, whichever is larger), plus with
+    // layers the extra S edge that the stack's closure needs.
+    return std::sqrt(CGAL::to_double(CGAL::squared_distance(p, hit.first))) >=
+      options.BoundaryMargin * std::max(lsi, lb) + (margin - options.BoundaryMargin) * lsi;
+  };
   std::vector<char> usable(nSurfacePoints, 0), clearOfLocked(nSurfacePoints, 1);
   std::size_t inside = 0;
   for (std::size_t i = 0; i < nSurfacePoints; ++i)
@@ -526,8 +548,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       continue;
     }
     ++inside;
-    const double d = std::sqrt(CGAL::to_double(tree.squared_distance(p)));
-    usable[i] = d >= margin * ls[i];
+    usable[i] = boundaryClearance(p, ls[i]);
   }
   if (inside == 0)
   {

@@ -1408,9 +1408,14 @@ bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n
   const std::size_t minimum = SurfaceTemplateMinimumPoints(options.Template);
   for (int it = 0; it < iterations; ++it)
   {
+    // The distances in units of each point's local mesh size l_j = 1 / w_j
+    // (Eq. 4's weights): medial points scatter by a fraction of their own
+    // cell, so on a mesh that grows along the feature one global scale
+    // would reject the coarse part's good points and bias the fit.
     for (std::size_t j = 0; j < n; ++j)
     {
-      d[j] = SurfaceDistance(result, points + 3 * j);
+      const double l = weights ? 1.0 / weights[j] : 1.0;
+      d[j] = SurfaceDistance(result, points + 3 * j) / l;
       absd[j] = std::abs(d[j]);
     }
     std::nth_element(absd.begin(), absd.begin() + n / 2, absd.end());

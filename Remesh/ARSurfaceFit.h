@@ -134,13 +134,17 @@ bool FitSurface(const double* points, const double* weights, std::size_t n,
 
 /**
  * Robust variant of FitSurface: iteratively reweighted least squares with
- * Tukey's biweight on the orthogonal distances, w_j <- w_j (1 - (d_j / (c s))^2)^2
- * for |d_j| < c s and 0 beyond, c = 4.685, s = 1.4826 x the median |d_j| (the
+ * Tukey's biweight on the orthogonal distances in units of each point's
+ * local size l_j = 1 / w_j, r_j = d_j / l_j: w_j <- w_j (1 - (r_j / (c s))^2)^2
+ * for |r_j| < c s and 0 beyond, c = 4.685, s = 1.4826 x the median |r_j| (the
  * normal-consistent scale), until the weights settle (at most `iterations`
  * refits). Medial points that do not belong to the feature surface, such as
  * those where a feature band is cut by a wall and the edge distance peaks on
  * the wall, stop pulling the fit; on clean data the weights stay near 1 and
- * the answer is that of FitSurface. The loop stops when no multiplier moves
+ * the answer is that of FitSurface. The scale follows the local size because
+ * medial points scatter by a fraction of their own cell: on a mesh that grows
+ * along the feature a single scale rejects the coarse part's good points and
+ * biases the fit (0.9 degree on a cone). The loop stops when no multiplier moves
  * by 0.02 or more. `robustWeights`, if given, gets the final
  * multipliers in [0, 1]. The result's residuals are over all points.
  */

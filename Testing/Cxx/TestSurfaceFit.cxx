@@ -683,3 +683,65 @@ TEST(SurfaceFit, AutomaticTemplatePicksTheShape)
   EXPECT_NE(error.find("Quadric:"), std::string::npos) << error;
   EXPECT_TRUE(std::isnan(res[0]) && std::isnan(res[1]) && std::isnan(res[2]));
 }
+
+TEST(SurfaceFit, RobustScaleFollowsTheLocalSize)
+{
+  // A half cone whose mesh grows five-fold along the generators (l from 0.01
+  // at s = 1 to 0.05 at s = 3), the medial points scattered by a fifth of
+  // their local size, with a thick tail (5 % at a full cell): as a captured
+  // conical shock's medial points on a graded mesh. The robust fit, which
+  // judges each point against its own size, agrees with the plain fit; a
+  // single global scale would reject the coarse part's good points and tilt
+  // the cone.
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> us(1.0, 3.0), uphi(0.0, Pi), tail(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  const V apex{ 0.1, 0.2, -0.3 }, z = Unit({ 1.0, 0.2, 0.1 });
+  const double theta = 32.0 * Pi / 180.0;
+  V e1, e2;
+  Perpendiculars(z, e1, e2);
+  Cloud c;
+  for (int i = 0; i < 4000; ++i)
+  {
+    const double s = us(rng), phi = uphi(rng);
+    const double l = 0.01 + 0.02 * (s - 1.0);
+    const double sigma = tail(rng) < 0.05 ? l : 0.2 * l;
+    const V radial = Add(Add(V{ 0, 0, 0 }, e1, std::cos(phi)), e2, std::sin(phi));
+    const V g = Add(Add(V{ 0, 0, 0 }, z, std::cos(theta)), radial, std::sin(theta));
+    const V normal = Add(Add(V{ 0, 0, 0 }, radial, std::cos(theta)), z, -std::sin(theta));
+    c.Add(Add(Add(apex, g, s), normal, sigma * noise(rng)), 1.0 / l);
+  }
+  ar::SurfaceFitOptions o;
+  o.Template = ar::SurfaceTemplate::Cone;
+  ar::SurfaceFitResult plain, robust;
+  std::string error;
+  ASSERT_TRUE(ar::FitSurface(c.X.data(), c.W.data(), c.Size(), o, plain, error)) << error;
+  std::vector<double> m;
+  ASSERT_TRUE(ar::FitSurfaceRobust(c.X.data(), c.W.data(), c.Size(), o, robust, error, 10, &m)) << error;
+  // The down-weighted share (multiplier below 0.5) of the fine and the
+  // coarse third of the points: alike when the scale follows the size (a
+  // global scale down-weights the coarse third's ordinary scatter, ~13 %).
+  std::size_t fine = 0, coarse = 0, fineLow = 0, coarseLow = 0;
+  for (std::size_t j = 0; j < c.Size(); ++j)
+  {
+    const double l = 1.0 / c.W[j];
+    if (l < 0.01 + 0.02 * (2.0 / 3.0))
+    {
+      ++fine;
+      fineLow += m[j] < 0.5 ? 1 : 0;
+    }
+    else if (l > 0.01 + 0.02 * (4.0 / 3.0))
+    {
+      ++coarse;
+      coarseLow += m[j] < 0.5 ? 1 : 0;
+    }
+  }
+  const double fineShare = double(fineLow) / fine, coarseShare = double(coarseLow) / coarse;
+  std::printf("graded cone: plain half-angle %.3f, robust %.3f (true 32); down-weighted: fine %.3f, coarse %.3f\n",
+    plain.HalfAngleDegrees, robust.HalfAngleDegrees, fineShare, coarseShare);
+  EXPECT_LT(coarseShare, 0.08);
+  EXPECT_LT(std::abs(coarseShare - fineShare), 0.03);
+  EXPECT_NEAR(plain.HalfAngleDegrees, 32.0, 0.1);
+  EXPECT_NEAR(robust.HalfAngleDegrees, plain.HalfAngleDegrees, 0.1);
+  EXPECT_LT(AngleDeg({ robust.AxisDirection[0], robust.AxisDirection[1], robust.AxisDirection[2] }, z), 0.2);
+}

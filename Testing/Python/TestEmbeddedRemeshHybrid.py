@@ -147,16 +147,28 @@ check(artest.field(out, "SurfaceTrianglesAtLockedCells")[0] > 0,
 # Every point of the plane at least (margin + 1) S edges (CGAL's isotropic
 # remeshing keeps edges below 4/3 of the target) from the domain boundary and
 # from the layers lies in an S triangle all of whose corners survive the trim.
-band = (MARGIN + 1) * max(4.0 / 3.0 * EDGE, longest.max())
+# From the domain boundary, and from the tetrahedra's faces against the
+# layers (V's boundary too: V holds only the tetrahedra), S keeps
+# BoundaryMargin x max(its edge, the nearest boundary face's longest edge)
+# (room for the refill to grade to the kept faces); from the layers'
+# region itself BoundaryMargin x its edge.
+outer = skin(src.VTKObject)
+from vtkmodules.util.numpy_support import vtk_to_numpy as _v2n
+_P = _v2n(outer.GetPoints().GetData()).astype(np.float64)
+_off, _con = _v2n(outer.GetPolys().GetOffsetsArray()), _v2n(outer.GetPolys().GetConnectivityArray())
+# (a face's diameter: the core fans quads into triangles, whose longest edge is a diagonal)
+face_edge = max(np.linalg.norm(_P[_con[_off[f]:_off[f + 1]]][:, None] - _P[_con[_off[f]:_off[f + 1]]][None], axis=2).max()
+                for f in range(len(_off) - 1))
+band_domain = MARGIN * max(4.0 / 3.0 * EDGE, longest.max(), face_edge) + max(4.0 / 3.0 * EDGE, longest.max())
 g = np.linspace(-1.0, 1.0, 81)
 samples = [o + a * u + b * v for a in g for b in g]
 samples = [x for x in samples if np.all(x > 0) and np.all(x < 1)
-           and distance(domain, x) > band and distance(layers, x) > band]
+           and distance(domain, x) > band_domain and distance(layers, x) > band_domain]
 surface = locator_of(emb.VTKObject)
 gap = max(distance(surface, x) for x in samples)
 check(len(samples) > 100 and gap < 1e-6,
       "the embedded surface covers all %d sample points of the plane farther than %.3f from the boundary and "
-      "the layers (largest gap %.1e)" % (len(samples), band, gap))
+      "from the layers (largest gap %.1e)" % (len(samples), band_domain, gap))
 
 # ---- Quality arrays for every cell type; new tetrahedra >= 10 degrees.
 mind, maxd = np.asarray(out.CellData["MinDihedralAngle"]), np.asarray(out.CellData["MaxDihedralAngle"])

@@ -1,7 +1,15 @@
 """The adaptation pipeline on the bundled data, as far as it exists (pvbatch).
 
     pvbatch Plugin/Scripts/run_pipeline.py --plugin <AdaptiveRedistribution.so> \
-        --data Data --output AdaptiveRedistribution-output
+        --data Data --output AdaptiveRedistribution-output [--input SOLUTION ...]
+
+With --input (any file ParaView reads: .vtu, .foam, .cgns, .vtk, ...), each
+solution is adapted in one step by AdaptToShocks with its defaults instead:
+<output>/<name>_adapted.vtu (the adapted mesh), <name>_shock_surfaces.vtp
+(the fitted surfaces, SurfaceId), <name>_adapted.png (a cut through the
+adapted mesh, the new cells coloured), and a summary row each.
+
+Without --input, the bundled data, step by step:
 
 Stage 1 (paper section 2.2), the sensors, and stage 2 (section 2.3), the
 feature clusters, their medial points and the fitted, trimmed shock surfaces:
@@ -36,6 +44,7 @@ parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.R
 parser.add_argument("--plugin", required=True, help="the built AdaptiveRedistribution.so")
 parser.add_argument("--data", required=True, help="the repository's Data/ folder")
 parser.add_argument("--output", required=True, help="folder for the meshes and pictures")
+parser.add_argument("--input", nargs="+", help="solutions to adapt with AdaptToShocks's defaults (one step each)")
 args = parser.parse_args()
 
 LoadPlugin(args.plugin, remote=False, ns=globals())
@@ -44,6 +53,88 @@ from theta_beta_mach import shock_angle  # noqa: E402
 
 os.makedirs(args.output, exist_ok=True)
 summary = []
+
+
+def adapt_inputs(paths):
+    """AdaptToShocks with its defaults on each solution: the adapted mesh, the
+    surfaces, a cut picture, a summary row; exit 1 if one failed."""
+    failed = 0
+    for path in paths:
+        name = os.path.splitext(os.path.basename(path))[0]
+        solution = OpenDataFile(path)
+        if solution is None:
+            print("%s: ParaView has no reader for this file" % path)
+            failed += 1
+            continue
+        if "MeshRegions" in solution.ListProperties():  # OpenFOAM: the internal mesh and the patches
+            solution.MeshRegions = ["internalMesh"] + [n for n in solution.MeshRegions.Available if n.startswith("patch/")]
+        if "CellArrays" in solution.ListProperties():
+            solution.CellArrays = solution.CellArrays.Available
+        if hasattr(solution, "TimestepValues") and solution.TimestepValues:
+            times = solution.TimestepValues
+            solution.UpdatePipeline(times[-1] if isinstance(times, (list, tuple)) else times)
+        adapted = AdaptToShocks(Input=solution)
+        adapted.UpdatePipeline()
+        out = servermanager.Fetch(adapted)
+        volume = out.GetBlock(0) if out.IsA("vtkMultiBlockDataSet") else out
+        if volume is None or volume.GetCellData().GetArray("Region") is None:
+            print("%s: AdaptToShocks did not adapt it (its message above says why)" % path)
+            failed += 1
+            continue
+        fd = volume.GetFieldData()
+        value = lambda n: fd.GetArray(n).GetValue(0)
+        templates = fd.GetAbstractArray("SurfaceTemplates")
+        save(adapted, name + "_adapted.vtu" if not out.IsA("vtkMultiBlockDataSet") else name + "_adapted.vtm")
+        save(OutputPort(adapted, 1), name + "_shock_surfaces.vtp")
+        b = volume.GetBounds()
+        cut = Slice(Input=adapted)
+        cut.SliceType.Origin = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])]
+        cut.SliceType.Normal = [0, 0, 1]
+
+        cut.Crinkleslice = 1  # whole cells: the new ones show their size
+        cut.UpdatePipeline()
+
+        def regions(display, view):
+            display.Representation = "Surface With Edges"
+            display.EdgeColor = [0.1, 0.1, 0.2]
+            ColorBy(display, ("CELLS", "Region"))
+            lut = GetColorTransferFunction("Region")
+            lut.InterpretValuesAsCategories = 1
+            lut.Annotations = ["0", "kept cells", "1", "new cells", "2", "layer cells"]
+            lut.IndexedColors = [0.85, 0.85, 0.85, 0.55, 0.75, 1.0, 1.0, 0.6, 0.3]
+            display.SetScalarBarVisibility(view, True)
+            bar = GetScalarBar(lut, view)
+            bar.Title = "Region"
+            bar.TitleColor = [0, 0, 0]
+            bar.LabelColor = [0, 0, 0]
+
+        def flat(view):
+            view.ResetCamera()
+            view.CameraPosition = [view.CameraFocalPoint[0], view.CameraFocalPoint[1], view.CameraFocalPoint[2] + 5 * (b[1] - b[0] + b[3] - b[2])]
+            view.CameraViewUp = [0, 1, 0]
+            view.ResetCamera()
+
+        picture(name + "_adapted.png", [(cut, regions)], flat,
+                "%s adapted by AdaptToShocks: %d -> %d nodes, %d surface(s) (%s); cut through the middle"
+                % (name, value("InputNodes"), value("OutputNodes"), value("NumberOfSurfaces"),
+                   ", ".join(templates.GetValue(i) for i in range(templates.GetNumberOfValues()))))
+        summary.append(("%s AdaptToShocks: %d -> %d nodes" % (name, value("InputNodes"), value("OutputNodes")),
+                        int(value("SurfaceTriangles")) if fd.GetArray("SurfaceTriangles") else int(value("SurfaceQuads")),
+                        "surfaces %s; new cells at the shock %.2f of the input's size; smallest new angle %.1f deg; %.1f s"
+                        % (", ".join(templates.GetValue(i) for i in range(templates.GetNumberOfValues())),
+                           value("SurfaceSizeRatio"), value("MinDihedralAngleNew") if value("TwoDimensional") == 0
+                           else value("MinTriangleAngleNew"),
+                           sum(value(n) for n in ("SecondsSensor", "SecondsClusters", "SecondsFit", "SecondsRemesh")))))
+    print()
+    print("| solution | surface triangles | result |")
+    print("|---|---|---|")
+    for row in summary:
+        print("| %s | %d | %s |" % row)
+    print()
+    print("Wrote to %s:" % args.output)
+    for f in sorted(os.listdir(args.output)):
+        print("  " + f)
+    sys.exit(1 if failed else 0)
 
 
 def local(proxy):
@@ -120,6 +211,10 @@ def shock_edges(display, view):
     display.DiffuseColor = [0, 0, 0]
     display.LineWidth = 1.5
     ColorBy(display, None)
+
+
+if args.input:
+    adapt_inputs(args.input)
 
 
 # ---------------------------------------------------------------- the wedge

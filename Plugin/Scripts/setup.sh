@@ -2,6 +2,7 @@
 # Set-up, build and run for AdaptiveRedistribution on Debian bookworm.
 #
 #   bash Plugin/Scripts/setup.sh run    # install what is missing, build, run the pipeline on the bundled data
+#   bash Plugin/Scripts/setup.sh run SOLUTION...   # ... or adapt these solutions in one step (AdaptToShocks)
 #   bash Plugin/Scripts/setup.sh test   # install what is missing, build, run every test (ctest)
 #
 # Environment: AR_BUILD_DIR (default <repo>/build), AR_OUTPUT_DIR (default
@@ -9,6 +10,9 @@
 set -euo pipefail
 
 mode="${1:-}"
+shift || true
+inputs=()
+for f in "$@"; do inputs+=("$(cd "$(dirname "$f")" && pwd)/$(basename "$f")"); done
 if [[ "$mode" != "run" && "$mode" != "test" ]]; then
   echo "usage: bash Plugin/Scripts/setup.sh run|test" >&2
   exit 2
@@ -69,7 +73,9 @@ if [[ -z "${DISPLAY:-}" ]]; then x=(xvfb-run -a -s "-screen 0 1600x1200x24"); fi
 
 if [[ "$mode" == "run" ]]; then
   mkdir -p "$output"
-  "${x[@]}" pvbatch "$root/Plugin/Scripts/run_pipeline.py" --plugin "$plugin" --data "$root/Data" --output "$output"
+  extra=()
+  if ((${#inputs[@]} > 0)); then extra=(--input "${inputs[@]}"); fi
+  "${x[@]}" pvbatch "$root/Plugin/Scripts/run_pipeline.py" --plugin "$plugin" --data "$root/Data" --output "$output" "${extra[@]}"
   echo "== outputs in $output"
 else
   cd "$build"

@@ -371,6 +371,10 @@ int vtkEmbeddedRemesh::FillInputPortInformation(int port, vtkInformation* info)
   }
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
   info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
+  // Optional for the executive, so that an empty Surfaces selection gives the
+  // filter's one message (RequestData) instead of the pipeline's generic
+  // errors on every update.
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;
 }
 
@@ -425,6 +429,13 @@ int vtkEmbeddedRemesh::RequestData(
   for (int k = 0; k < inputVector[1]->GetNumberOfInformationObjects(); ++k)
   {
     surfaces.push_back(vtkDataSet::GetData(inputVector[1], k));
+  }
+  if (surfaces.empty())
+  {
+    vtkErrorMacro(<< "EmbeddedRemesh has no feature surface: connect one or more to Surfaces (e.g. "
+                     "Quadric Fit's or Medial Axis Delaunay's output). The input passes through unchanged.");
+    vtkDataObject::GetData(outputVector, 0)->ShallowCopy(inputObject);
+    return 1;
   }
   if (auto* grid = vtkUnstructuredGrid::SafeDownCast(inputObject))
   {

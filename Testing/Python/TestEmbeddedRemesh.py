@@ -7,7 +7,7 @@ Gmsh tetrahedra with real feature surfaces:
   between two cells; the kept cells identical to input cells; p at the kept
   points equal to the input's exactly; every new cell's smallest dihedral
   angle at least 10 degrees;
-- bad input: an empty surface, a surface outside the domain, two surfaces
+- bad input: no surface connected (one message), an empty surface, a surface outside the domain, two surfaces
   crossing, a TetGen failure, an inverted cell, a mesh without tetrahedra: an
   error naming the problem and the input passed through unchanged.
 """
@@ -132,6 +132,14 @@ def refused(mesh, surfaces, fragment, label, **props):
           "%s: the input passes through unchanged (%d cells)" % (label, out.GetNumberOfCells()))
 
 
+# No surface connected at all: one clear message, not the pipeline's
+# generic errors about a missing input connection.
+before = len(messages.GetOutput())
+bare = artest.fetch(EmbeddedRemesh(Input=oblique))
+text = messages.GetOutput()[before:]
+check(text.count("ERROR") == 1 and "no feature surface: connect one or more to Surfaces" in text
+      and bare.GetNumberOfCells() == artest.fetch(oblique).GetNumberOfCells(),
+      "no Surfaces connected: one error (%d) that says to connect one, the input passes through" % text.count("ERROR"))
 empty = Contour(Input=weight, ContourBy=["POINTS", "WeightFunction"], Isosurfaces=[5.0])
 refused(oblique, [empty], "feature surface is empty", "empty surface")
 far = Transform(Input=plane)

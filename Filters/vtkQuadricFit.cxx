@@ -307,6 +307,14 @@ int vtkQuadricFit::RequestData(
                 << " components; it needs 1. ";
       }
     }
+    if (pd->GetArray("FeatureMask") && !weight && !size)
+    {
+      // FeatureCluster's port 0 (the mesh with the cluster arrays) instead of
+      // its port 1 (the medial points): name the wrong connection.
+      problem << "The input is FeatureCluster's first output (the mesh with FeatureMask), not its "
+                 "medial points: connect Input to FeatureCluster's second output "
+                 "(OutputPort(cluster, 1); in the GUI, the port named Medial Points). ";
+    }
     flags[1] = ids ? 1.0 : 0.0;
     flags[2] = weight ? 1.0 : 0.0;
     flags[3] = size ? 1.0 : 0.0;

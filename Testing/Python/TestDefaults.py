@@ -39,7 +39,8 @@ template is the plane on the wedge (theta-beta-Mach within 0.5 degree) and
 on the analytic oblique shock, the cone on the cone (Taylor-Maccoll within
 0.5 degree); TemplateResiduals holds the
 three candidates' residuals and the chosen one's is within the documented
-bound; a Template of 9 is refused by name.
+bound; a Template of 9 is refused by name; QuadricFit connected to
+FeatureCluster's first port is told so.
 """
 import numpy as np
 from paraview.simple import *
@@ -249,6 +250,10 @@ r, fit, size = chain("cone20Ma2p5.vtu")
 t = chosen(fit, size, "cone")
 half = artest.field(fit, "HalfAngle")[0] if t == "Cone" else np.nan
 check(t == "Cone" and abs(half - theory) < 0.5, "cone: the cone at %.2f deg (Taylor-Maccoll %.2f)" % (half, theory))
+before = len(messages.GetOutput())
+wrong = artest.fetch(QuadricFit(Input=auto, Domain=cone))  # port 0, the mesh, instead of the medial points
+check("FeatureCluster's first output" in messages.GetOutput()[before:] and wrong.GetNumberOfCells() == 0,
+      "QuadricFit on FeatureCluster's port 0: the wrong connection is named, no surface")
 before = len(messages.GetOutput())
 QuadricFit(Input=OutputPort(auto, 1), Domain=cone, Template=9).UpdatePipeline()
 check("Template is 9" in messages.GetOutput()[before:], "QuadricFit Template 9: refused by name")

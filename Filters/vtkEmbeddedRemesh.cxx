@@ -662,6 +662,11 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
                        "(2-D) mesh either (" + not2D + ").");
   }
   this->UpdateProgress(0.1);
+  if (this->CheckAbort())
+  {
+    output->ShallowCopy(input); // cancelled
+    return 1;
+  }
   const double secondsInput = lap();
 
   // ---- S remeshed at the edge length: SurfaceSizeFactor times the input's
@@ -699,6 +704,11 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     rTris = sTris;
   }
   this->UpdateProgress(0.3);
+  if (this->CheckAbort())
+  {
+    output->ShallowCopy(input); // cancelled
+    return 1;
+  }
   const double secondsSurface = lap();
 
   // ---- The cavity and its refill.
@@ -720,6 +730,11 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     return passThrough("EmbeddedRemesh: " + error);
   }
   this->UpdateProgress(0.8);
+  if (this->CheckAbort())
+  {
+    output->ShallowCopy(input); // cancelled
+    return 1;
+  }
   lap();
 
   // ---- Output mesh: new tetrahedra and kept cells, in the output's point ids.

@@ -420,6 +420,11 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     return passThrough("The feature curve is empty after resampling.");
   }
   this->UpdateProgress(0.3);
+  if (this->CheckAbort())
+  {
+    output->ShallowCopy(input); // cancelled
+    return 1;
+  }
 
   // ---- The 2-D cavity and its refill.
   ar::Cavity2DOptions options;
@@ -445,6 +450,11 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     return passThrough(error);
   }
   this->UpdateProgress(0.7);
+  if (this->CheckAbort())
+  {
+    output->ShallowCopy(input); // cancelled
+    return 1;
+  }
 
   // ---- Output points: the kept input points (input order), then a front
   // and a back point per new 2-D point.

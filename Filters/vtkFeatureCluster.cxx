@@ -342,6 +342,10 @@ int vtkFeatureCluster::RequestData(
     return 1;
   }
   this->UpdateProgress(0.1);
+  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
 
   // ---- The feature region: cells within DilationRings + 1 rings of a seed
   // (rings through shared cells, a superset of rings through edges), so that
@@ -436,6 +440,10 @@ int vtkFeatureCluster::RequestData(
     }
   }
   this->UpdateProgress(0.5);
+  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
 
   // ---- Gather the regions on rank 0 and merge the nodes by position.
   vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
@@ -541,6 +549,10 @@ int vtkFeatureCluster::RequestData(
     ctrl->Receive(mine.data(), mine.size(), 0, TAG_RESULTS);
   }
   this->UpdateProgress(0.8);
+  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
 
   // ---- Port 0: the point arrays.
   vtkNew<vtkUnsignedCharArray> mask;

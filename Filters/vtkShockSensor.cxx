@@ -423,6 +423,10 @@ int vtkShockSensor::RequestData(
     return 1;
   }
   this->UpdateProgress(0.1);
+  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
 
   if (!cellColumns.empty() &&
     !vtkARMeshKernels::CellColumnsToPoints(
@@ -475,6 +479,10 @@ int vtkShockSensor::RequestData(
     return 1;
   }
   this->UpdateProgress(0.3);
+  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
 
   // ---- grad p at the points: weighted average of the cell gradients.
   std::vector<double> gradP;
@@ -506,6 +514,10 @@ int vtkShockSensor::RequestData(
     return 1;
   }
   this->UpdateProgress(0.7);
+  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
 
   // ---- Point quantities: Mn, |grad p|, V.grad p, local Mach.
   std::vector<double> rawMach(npts);

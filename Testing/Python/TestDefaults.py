@@ -258,4 +258,22 @@ before = len(messages.GetOutput())
 QuadricFit(Input=OutputPort(auto, 1), Domain=cone, Template=9).UpdatePipeline()
 check("Template is 9" in messages.GetOutput()[before:], "QuadricFit Template 9: refused by name")
 
+# ---- Cancel (the GUI's abort): the long filters stop at their next stage.
+for name, make in (("ShockSensor", lambda: ShockSensor(Input=cone)),
+                   ("FeatureCluster", lambda: FeatureCluster(Input=ShockSensor(Input=cone))),
+                   ("EmbeddedRemesh", lambda: EmbeddedRemesh(Input=cone, Surfaces=[artest.cone_shock_fit(cone)]))):
+    obj = make().GetClientSideObject()
+    seen = []
+
+    def cancel(o, e, seen=seen):
+        seen.append(round(o.GetProgress(), 3))
+        if o.GetProgress() > 0.05:
+            o.SetAbortExecute(1)
+    obj.AddObserver("ProgressEvent", cancel)
+    obj.Update()
+    out = obj.GetOutputDataObject(0)
+    check(all(x in (0.0, 0.1, 1.0) for x in seen) and out.GetPointData().GetArray("NormalMach") is None
+          and out.GetCellData().GetArray("Region") is None and out.GetPointData().GetArray("FeatureMask") is None,
+          "%s: cancelled at the first stage (progress %s), no result" % (name, seen))
+
 artest.finish()

@@ -36,45 +36,6 @@
 
 vtkStandardNewMacro(vtkAdaptToShocks);
 
-namespace
-{
-/// The leaf that carries the solution: "internalMesh", else the first
-/// unstructured grid with 3-D cells (as vtkEmbeddedRemesh picks it).
-vtkUnstructuredGrid* VolumeOf(vtkDataObject* input)
-{
-  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(input))
-  {
-    return grid;
-  }
-  auto* mb = vtkMultiBlockDataSet::SafeDownCast(input);
-  if (!mb)
-  {
-    return nullptr;
-  }
-  vtkUnstructuredGrid* volume = nullptr;
-  vtkSmartPointer<vtkDataObjectTreeIterator> it;
-  it.TakeReference(mb->NewTreeIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-  {
-    auto* grid = vtkUnstructuredGrid::SafeDownCast(it->GetCurrentDataObject());
-    const char* name = it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME());
-    bool solid = false;
-    for (vtkIdType c = 0; grid && c < grid->GetNumberOfCells() && !solid; ++c)
-    {
-      solid = vtkCellTypes::GetDimension(grid->GetCellType(c)) == 3;
-    }
-    if (grid && solid && name && std::string(name) == "internalMesh")
-    {
-      return grid;
-    }
-    if (grid && solid && !volume)
-    {
-      volume = grid;
-    }
-  }
-  return volume;
-}
-}
 
 //------------------------------------------------------------------------------
 vtkAdaptToShocks::vtkAdaptToShocks()
@@ -201,7 +162,7 @@ int vtkAdaptToShocks::RequestData(
   {
     return passThrough(bad.str());
   }
-  vtkUnstructuredGrid* volume = VolumeOf(input);
+  vtkUnstructuredGrid* volume = vtkEmbeddedRemesh::VolumeLeaf(input);
   if (!volume || volume->GetNumberOfCells() == 0)
   {
     return passThrough("The input has no volume mesh (an unstructured grid with 3-D cells, or a "
@@ -407,7 +368,7 @@ int vtkAdaptToShocks::RequestData(
   remesh->SetInterpolateFields(this->InterpolateFields);
   remesh->Update();
   vtkDataObject* adapted = remesh->GetOutputDataObject(0);
-  vtkUnstructuredGrid* adaptedVolume = VolumeOf(adapted);
+  vtkUnstructuredGrid* adaptedVolume = vtkEmbeddedRemesh::VolumeLeaf(adapted);
   if (!adaptedVolume || !adaptedVolume->GetCellData()->GetArray("Region"))
   {
     return passThrough("the remeshing failed (see EmbeddedRemesh's message above).");
@@ -416,7 +377,7 @@ int vtkAdaptToShocks::RequestData(
 
   output->ShallowCopy(adapted);
   surfaces->ShallowCopy(append->GetOutput());
-  vtkUnstructuredGrid* outVolume = VolumeOf(output);
+  vtkUnstructuredGrid* outVolume = vtkEmbeddedRemesh::VolumeLeaf(output);
   vtkFieldData* fd = outVolume->GetFieldData();
   const double count = static_cast<double>(fitted.size());
   fd->AddArray(vtkARMeshKernels::FieldArray("NumberOfSurfaces", &count, 1));

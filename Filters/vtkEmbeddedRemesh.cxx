@@ -419,6 +419,43 @@ int vtkEmbeddedRemesh::RequestDataObject(
 }
 
 //------------------------------------------------------------------------------
+vtkUnstructuredGrid* vtkEmbeddedRemesh::VolumeLeaf(vtkDataObject* data)
+{
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(data))
+  {
+    return grid;
+  }
+  auto* mb = vtkMultiBlockDataSet::SafeDownCast(data);
+  if (!mb)
+  {
+    return nullptr;
+  }
+  vtkUnstructuredGrid* volume = nullptr;
+  vtkSmartPointer<vtkDataObjectTreeIterator> it;
+  it.TakeReference(mb->NewTreeIterator());
+  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  {
+    auto* grid = vtkUnstructuredGrid::SafeDownCast(it->GetCurrentDataObject());
+    const char* name = it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME());
+    const bool isInternal = name && std::string(name) == "internalMesh";
+    bool solid = false;
+    for (vtkIdType c = 0; grid && c < grid->GetNumberOfCells() && !solid; ++c)
+    {
+      solid = vtkCellTypes::GetDimension(grid->GetCellType(c)) == 3;
+    }
+    if (grid && solid && (isInternal || !volume))
+    {
+      volume = grid;
+      if (isInternal)
+      {
+        break;
+      }
+    }
+  }
+  return volume;
+}
+
+//------------------------------------------------------------------------------
 int vtkEmbeddedRemesh::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -447,28 +484,9 @@ int vtkEmbeddedRemesh::RequestData(
   auto* input = vtkMultiBlockDataSet::SafeDownCast(inputObject);
   auto* output = vtkMultiBlockDataSet::GetData(outputVector, 0);
   output->CopyStructure(input);
-  vtkUnstructuredGrid* volume = nullptr;
+  vtkUnstructuredGrid* volume = VolumeLeaf(input);
   vtkSmartPointer<vtkDataObjectTreeIterator> it;
   it.TakeReference(input->NewTreeIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-  {
-    auto* grid = vtkUnstructuredGrid::SafeDownCast(it->GetCurrentDataObject());
-    const char* name = it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME());
-    const bool isInternal = name && std::string(name) == "internalMesh";
-    bool solid = false;
-    for (vtkIdType c = 0; grid && c < grid->GetNumberOfCells() && !solid; ++c)
-    {
-      solid = vtkCellTypes::GetDimension(grid->GetCellType(c)) == 3;
-    }
-    if (grid && solid && (isInternal || !volume))
-    {
-      volume = grid;
-      if (isInternal)
-      {
-        break;
-      }
-    }
-  }
   vtkNew<vtkUnstructuredGrid> remeshed;
   double missing = volume ? 0.0 : 1.0; // the distributed remesh is collective: all or none
   vtkARMeshKernels::AllReduceMax(&missing, 1);

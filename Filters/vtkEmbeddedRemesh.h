@@ -175,6 +175,11 @@ public:
     TWO_DIMENSIONAL_OFF = 1   ///< always the 3-D (tetrahedral) path
   };
 
+  /// The volume that carries the mesh: the grid itself, or a multiblock's
+  /// "internalMesh" leaf, else its first unstructured grid with 3-D cells
+  /// (ParaView's OpenFOAM reader); nullptr when there is none.
+  static vtkUnstructuredGrid* VolumeLeaf(vtkDataObject* data);
+
   /// Add a feature surface (input port 1).
   void AddSurfaceConnection(vtkAlgorithmOutput* output) { this->AddInputConnection(1, output); }
   void AddSurfaceData(vtkDataObject* data) { this->AddInputData(1, data); }

@@ -82,17 +82,8 @@ check(f(out_w, "TwoDimensional") == 1 and "crosses the surface of cluster 0 and 
       "wedge: 2-D mode; the shock foot's crossing piece is left out with a warning")
 
 # ---- The OpenFOAM reader's multiblock.
-def cone_patches(c, b):
-    names = np.full(len(c), "cone", dtype=object)
-    names[np.abs(c[:, 0] - b[0]) < 1e-6] = "inlet"
-    names[np.abs(c[:, 0] - b[1]) < 1e-6] = "outlet"
-    names[np.abs(c[:, 2] - b[4]) < 1e-6] = "symmetry"
-    names[(np.hypot(c[:, 1], c[:, 2]) > 0.6 * b[3]) & (names == "cone")] = "farfield"
-    return names
-
-
-patches = ["inlet", "outlet", "symmetry", "farfield", "cone"]
-mb, names = artest.openfoam_multiblock(src.VTKObject, cone_patches, patches)
+patches = artest.CONE_PATCHES
+mb, names = artest.openfoam_multiblock(src.VTKObject, artest.cone_patches, patches)
 source = PVTrivialProducer()
 source.GetClientSideObject().SetOutput(mb)
 adapt_mb = AdaptToShocks(Input=source)

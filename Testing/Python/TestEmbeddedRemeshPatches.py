@@ -25,19 +25,11 @@ artest.load_plugin(globals())
 cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
 
 
-def cone_patches(c, b):
-    names = np.full(len(c), "cone", dtype=object)
-    names[np.abs(c[:, 0] - b[0]) < 1e-6] = "inlet"
-    names[np.abs(c[:, 0] - b[1]) < 1e-6] = "outlet"
-    names[np.abs(c[:, 2] - b[4]) < 1e-6] = "symmetry"
-    far = np.hypot(c[:, 1], c[:, 2]) > 0.6 * b[3]  # the outer cylinder (the cone body is near the axis)
-    names[far & (names == "cone")] = "farfield"
-    return names
 
 
-patches = ["inlet", "outlet", "symmetry", "farfield", "cone"]
+patches = artest.CONE_PATCHES
 volume = artest.fetch(cone).VTKObject
-mb, names = artest.openfoam_multiblock(volume, cone_patches, patches)
+mb, names = artest.openfoam_multiblock(volume, artest.cone_patches, patches)
 boundary = mb.GetBlock(1)
 counts = {n: int((names == n).sum()) for n in patches}
 check(all(n > 0 for n in counts.values()), "the cone's boundary in 5 patches: %s" % counts)

@@ -385,6 +385,22 @@ def skin(grid):
     return g.GetOutput()
 
 
+CONE_PATCHES = ["inlet", "outlet", "symmetry", "farfield", "cone"]
+
+
+def cone_patches(c, b):
+    """The bundled cone's boundary patches, for openfoam_multiblock: each
+    boundary face (centre c, the volume's bounds b) named as the OpenFOAM
+    case names it (CONE_PATCHES)."""
+    names = np.full(len(c), "cone", dtype=object)
+    names[np.abs(c[:, 0] - b[0]) < 1e-6] = "inlet"
+    names[np.abs(c[:, 0] - b[1]) < 1e-6] = "outlet"
+    names[np.abs(c[:, 2] - b[4]) < 1e-6] = "symmetry"
+    far = np.hypot(c[:, 1], c[:, 2]) > 0.6 * b[3]  # the outer cylinder (the cone body is near the axis)
+    names[far & (names == "cone")] = "farfield"
+    return names
+
+
 def openfoam_multiblock(volume, classify, patches):
     """`volume` (a vtkUnstructuredGrid) as ParaView's OpenFOAM reader gives a
     case: a multiblock of "internalMesh" and a "boundary" block with one

@@ -44,8 +44,9 @@ packages=(
   mpi-default-dev mpi-default-bin python3-mpi4py
   libx11-dev libgl-dev libxt-dev libpugixml-dev libjsoncpp-dev libfmt-dev libprotobuf-dev protobuf-compiler
   libcgns-dev libexodusii-dev
-  # a virtual display for pvbatch's pictures and the GUI tests
-  xvfb xauth
+  # a virtual display for pvbatch's pictures and the GUI tests; xdotool and ImageMagick's import
+  # drive the real paraview GUI and take its screenshot (GUIAdaptToShocks)
+  xvfb xauth xdotool imagemagick
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1510,13 +1510,48 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
   SurfaceFitResult fits[3];
   bool ok[3] = { false, false, false };
   std::string why;
+  // Points on two planes normal to a coordinate axis only (the medial points
+  // of a one-cell-deep, 2-D mesh: its front and back nodes, as EmbeddedRemesh's
+  // 2-D mode defines such a mesh) lie on two lines or curves. A cone or a
+  // quadric through them fits the two levels, not the shock: there only the
+  // plane is a candidate (a curved 2-D shock needs a template of its own).
+  bool extruded = false;
+  for (int axis = 0; axis < 3 && !extruded && n >= 4; ++axis)
+  {
+    double lo = std::numeric_limits<double>::max(), hi = -lo, span = 0.0;
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      lo = std::min(lo, points[3 * j + axis]);
+      hi = std::max(hi, points[3 * j + axis]);
+    }
+    for (int other = 0; other < 3; ++other)
+    {
+      double a = std::numeric_limits<double>::max(), b = -a;
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        a = std::min(a, points[3 * j + other]);
+        b = std::max(b, points[3 * j + other]);
+      }
+      span = std::max(span, b - a);
+    }
+    const double tol = 1e-9 * span;
+    bool two = hi - lo > tol;
+    for (std::size_t j = 0; j < n && two; ++j)
+    {
+      const double x = points[3 * j + axis];
+      two = std::abs(x - lo) <= tol || std::abs(x - hi) <= tol;
+    }
+    extruded = two;
+  }
   double best = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 3; ++k)
   {
     SurfaceFitOptions o = options;
     o.Template = order[k];
-    std::string e;
-    ok[k] = robust ? FitSurfaceRobust(points, weights, n, o, fits[k], e) : FitSurface(points, weights, n, o, fits[k], e);
+    std::string e = "the points lie on two planes only (a one-cell-deep mesh): only the plane is tried";
+    ok[k] = extruded && order[k] != SurfaceTemplate::Plane
+      ? false
+      : robust ? FitSurfaceRobust(points, weights, n, o, fits[k], e) : FitSurface(points, weights, n, o, fits[k], e);
     if (!ok[k])
     {
       why += std::string(why.empty() ? "" : "; ") + SurfaceTemplateName(order[k]) + ": " + e;

@@ -160,7 +160,11 @@ bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n
 /// residual a tenth of a cell above the best is no better surface for the
 /// mesher, so the simpler template is kept (a plane shock is not fitted by
 /// a cone of half-angle 89 degrees). `residuals`, if given, gets the three
-/// RMS residuals (NaN where that template could not be fitted). False with
+/// RMS residuals (NaN where that template could not be fitted). Points that
+/// lie on two planes normal to a coordinate axis only (a one-cell-deep
+/// mesh's front and back) get the plane: a cone or a quadric fits the two
+/// levels, not the shock (a curved 2-D shock needs a template of its own).
+/// False with
 /// `error` (every fit's failure) when none could be fitted.
 constexpr double AutomaticTemplateRatio = 1.25;
 constexpr double AutomaticTemplateSlack = 0.1;

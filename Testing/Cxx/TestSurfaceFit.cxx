@@ -745,3 +745,33 @@ TEST(SurfaceFit, RobustScaleFollowsTheLocalSize)
   EXPECT_NEAR(robust.HalfAngleDegrees, plain.HalfAngleDegrees, 0.1);
   EXPECT_LT(AngleDeg({ robust.AxisDirection[0], robust.AxisDirection[1], robust.AxisDirection[2] }, z), 0.2);
 }
+
+TEST(SurfaceFit, AutomaticTemplateOnAOneCellDeepBand)
+{
+  // A 2-D mesh's medial points: a noisy line in the section, on the front
+  // and the back plane (z = +-0.005) only. A cone or a quadric through the
+  // two lines fits them better than the plane (they fit the two levels),
+  // but they are not the shock: the plane is chosen.
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  Cloud c;
+  for (int i = 0; i < 400; ++i)
+  {
+    const double s = u(rng);
+    const double z = (i % 2) ? 0.005 : -0.005;
+    c.Add({ s, 0.45 * s + noise(rng), z }, 1.0 / 0.01);
+  }
+  ar::SurfaceFitOptions o;
+  ar::SurfaceFitResult r;
+  std::string error;
+  double res[3];
+  ASSERT_TRUE(ar::FitSurfaceAutomatic(c.X.data(), c.W.data(), c.Size(), o, true, 0.01, r, error, res)) << error;
+  std::printf("one cell deep: %s (residuals plane %.5f, cone %.5f, quadric %.5f), normal %.4f %.4f %.4f\n",
+    ar::SurfaceTemplateName(r.Template), res[0], res[1], res[2], r.Normal[0], r.Normal[1], r.Normal[2]);
+  EXPECT_EQ(r.Template, ar::SurfaceTemplate::Plane);
+  EXPECT_TRUE(std::isnan(res[1]) && std::isnan(res[2])) << "the cone and the quadric are not tried";
+  // The line in the section (the depth tilt is not determined by two levels
+  // 0.01 apart; EmbeddedRemesh's 2-D mode cuts S at mid-depth).
+  EXPECT_LT(AngleDeg({ r.Normal[0], r.Normal[1], 0.0 }, Unit({ -0.45, 1.0, 0.0 })), 0.2);
+}

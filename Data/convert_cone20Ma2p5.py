@@ -88,7 +88,9 @@ def cone_geometry(points, upstream):
 MAX_SHOCK_ANGLE_ERROR = 1.0  # degrees
 
 
-def _probe_p(grid, pts):
+def probe_p(grid, pts):
+    """p probed at the points (n x 3) in `grid`, and which points lie inside it
+    (vtkProbeFilter). Also used by make_validation_case.py."""
     vp = vtkPoints()
     vp.SetData(nps.numpy_to_vtk(np.ascontiguousarray(pts, dtype=np.float64), deep=1))
     pd = vtkPolyData()
@@ -122,7 +124,7 @@ def measure_shock(grid, tip, axis, half_angle, p1, p2):
         xs, rs = [], []
         for x in np.linspace(0.1, 0.95, 18) * length:
             rr = np.linspace(x * tan_c * 1.001, rmax, 2000)
-            p, ok = _probe_p(grid, tip + x * axis + rr[:, None] * d)
+            p, ok = probe_p(grid, tip + x * axis + rr[:, None] * d)
             hit = np.where(ok[:-1] & ok[1:] & ((p[:-1] - pmid) * (p[1:] - pmid) <= 0.0)
                            & (p[:-1] != p[1:]))[0]
             if len(hit) == 0:

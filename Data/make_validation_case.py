@@ -822,11 +822,10 @@ def convert(args):
     """Runs under pvpython: the .vtu with its field data, and the physics check."""
     import numpy as np
     import foam_vtu
+    from convert_cone20Ma2p5 import probe_p
     from paraview import servermanager, simple
     from vtkmodules.util import numpy_support as nps
-    from vtkmodules.vtkCommonCore import vtkPoints
-    from vtkmodules.vtkCommonDataModel import (VTK_HEXAHEDRON, VTK_TETRA, VTK_WEDGE, vtkPolyData)
-    from vtkmodules.vtkFiltersCore import vtkProbeFilter
+    from vtkmodules.vtkCommonDataModel import VTK_HEXAHEDRON, VTK_TETRA, VTK_WEDGE
 
     name, case, out = args["name"], args["case"], args["out"]
     c = CASES[name]
@@ -849,19 +848,6 @@ def convert(args):
         if pts is None or pts.GetNumberOfPoints() < 4:
             sys.exit("no points on patch '%s'" % patch)
         return nps.vtk_to_numpy(pts.GetPoints().GetData()).astype(np.float64)
-
-    def probe_p(grid, pts):
-        vp = vtkPoints()
-        vp.SetData(nps.numpy_to_vtk(np.ascontiguousarray(pts, dtype=np.float64), deep=1))
-        pd = vtkPolyData()
-        pd.SetPoints(vp)
-        pf = vtkProbeFilter()
-        pf.SetInputData(pd)
-        pf.SetSourceData(grid)
-        pf.Update()
-        o = pf.GetOutput().GetPointData()
-        return (nps.vtk_to_numpy(o.GetArray("p")).astype(np.float64),
-                nps.vtk_to_numpy(o.GetArray(pf.GetValidPointMaskArrayName())).astype(bool))
 
     def last_crossing(grid, origin, direction, s0, s1, level, n=2000):
         """Largest s in [s0, s1] where p(origin + s direction) crosses level, or None."""
@@ -921,8 +907,8 @@ def convert(args):
         p_mid = 0.5 * p_in * (1.0 + jump.p2_p1)
         want = beta
     elif c["kind"] == "cone":
-        import convert_cone20Ma2p5
-        half, tip, axis, dev = convert_cone20Ma2p5.cone_geometry(patch_points("cone"), u_in)
+        from convert_cone20Ma2p5 import cone_geometry
+        half, tip, axis, dev = cone_geometry(patch_points("cone"), u_in)
         if dev > 0.05 or abs(half - c["angle"]) > 0.05 or np.linalg.norm(tip) > 1e-6:
             sys.exit("patch 'cone' is not the %g deg cone at the origin (%.4f deg, within %.3g deg, tip %s)"
                      % (c["angle"], half, dev, tip))

@@ -85,25 +85,7 @@ int vtkAdaptToShocks::FillOutputPortInformation(int port, vtkInformation* info)
 int vtkAdaptToShocks::RequestDataObject(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);
-  if (!input)
-  {
-    return 0;
-  }
-  vtkInformation* info = outputVector->GetInformationObject(0);
-  vtkDataObject* output = info->Get(vtkDataObject::DATA_OBJECT());
-  if (!output || !output->IsA(input->GetClassName()))
-  {
-    vtkSmartPointer<vtkDataObject> fresh;
-    fresh.TakeReference(input->NewInstance());
-    info->Set(vtkDataObject::DATA_OBJECT(), fresh);
-  }
-  vtkInformation* info1 = outputVector->GetInformationObject(1);
-  if (!vtkPolyData::SafeDownCast(info1->Get(vtkDataObject::DATA_OBJECT())))
-  {
-    info1->Set(vtkDataObject::DATA_OBJECT(), vtkSmartPointer<vtkPolyData>::New());
-  }
-  return 1;
+  return vtkEmbeddedRemesh::MeshAndSurfaceDataObjects(inputVector, outputVector);
 }
 
 //------------------------------------------------------------------------------
@@ -232,11 +214,9 @@ int vtkAdaptToShocks::RequestData(
   }
 
   // ---- 3. One fitted surface per chosen cluster.
-  vtkNew<vtkAppendPolyData> append;
   std::vector<vtkSmartPointer<vtkPolyData>> fitted;
-  std::vector<int> fittedCluster; // the cluster of each fitted surface
-  vtkNew<vtkStringArray> templates;
-  templates->SetName("SurfaceTemplates");
+  std::vector<int> fittedCluster;          // the cluster of each fitted surface
+  std::vector<std::string> fittedTemplate; // its template's name
   std::ostringstream fitProblems;
   for (const int k : chosen)
   {
@@ -258,14 +238,9 @@ int vtkAdaptToShocks::RequestData(
     }
     auto copy = vtkSmartPointer<vtkPolyData>::New();
     copy->ShallowCopy(surface);
-    vtkNew<vtkIntArray> id;
-    id->SetName("SurfaceId");
-    id->SetNumberOfTuples(copy->GetNumberOfCells());
-    id->FillValue(static_cast<int>(fitted.size()));
-    copy->GetCellData()->AddArray(id);
-    templates->InsertNextValue(name ? name->GetValue(0) : "");
     fitted.push_back(copy);
     fittedCluster.push_back(k);
+    fittedTemplate.push_back(name ? name->GetValue(0) : "");
     if (this->CheckAbort())
     {
       return 1;
@@ -309,10 +284,7 @@ int vtkAdaptToShocks::RequestData(
     {
       arrays(fitted[i], pts[i], tris[i]);
     }
-    std::vector<vtkSmartPointer<vtkPolyData>> kept;
     std::vector<std::size_t> keptIndex;
-    vtkNew<vtkStringArray> keptTemplates;
-    keptTemplates->SetName("SurfaceTemplates");
     for (std::size_t i = 0; i < fitted.size(); ++i)
     {
       int crossed = -1;
@@ -334,19 +306,30 @@ int vtkAdaptToShocks::RequestData(
                         << fittedCluster[crossed] << " and is left out.");
         continue;
       }
-      auto* id = vtkIntArray::SafeDownCast(fitted[i]->GetCellData()->GetArray("SurfaceId"));
-      id->FillValue(static_cast<int>(kept.size()));
-      kept.push_back(fitted[i]);
       keptIndex.push_back(i);
-      keptTemplates->InsertNextValue(templates->GetValue(static_cast<vtkIdType>(i)));
+    }
+    std::vector<vtkSmartPointer<vtkPolyData>> kept;
+    for (const std::size_t i : keptIndex)
+    {
+      kept.push_back(fitted[i]);
+      fittedTemplate[kept.size() - 1] = fittedTemplate[i];
     }
     fitted = kept;
-    templates->DeepCopy(keptTemplates);
-    append->RemoveAllInputs();
-    for (const auto& s : fitted)
-    {
-      append->AddInputData(s);
-    }
+    fittedTemplate.resize(kept.size());
+  }
+  // The kept surfaces, numbered, in one polydata; their templates.
+  vtkNew<vtkAppendPolyData> append;
+  vtkNew<vtkStringArray> templates;
+  templates->SetName("SurfaceTemplates");
+  for (std::size_t i = 0; i < fitted.size(); ++i)
+  {
+    vtkNew<vtkIntArray> id;
+    id->SetName("SurfaceId");
+    id->SetNumberOfTuples(fitted[i]->GetNumberOfCells());
+    id->FillValue(static_cast<int>(i));
+    fitted[i]->GetCellData()->AddArray(id);
+    append->AddInputData(fitted[i]);
+    templates->InsertNextValue(fittedTemplate[i]);
   }
   append->Update();
   const double secondsFit = lap();

@@ -389,6 +389,12 @@ int vtkEmbeddedRemesh::FillOutputPortInformation(int port, vtkInformation* info)
 int vtkEmbeddedRemesh::RequestDataObject(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  return MeshAndSurfaceDataObjects(inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
+int vtkEmbeddedRemesh::MeshAndSurfaceDataObjects(vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
   vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);
   if (!input)
   {

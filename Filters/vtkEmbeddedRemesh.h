@@ -180,6 +180,11 @@ public:
   /// (ParaView's OpenFOAM reader); nullptr when there is none.
   static vtkUnstructuredGrid* VolumeLeaf(vtkDataObject* data);
 
+  /// RequestDataObject of a filter shaped as this one (also AdaptToShocks):
+  /// output 0 of the input's kind (an unstructured grid or a multiblock),
+  /// output 1 a vtkPolyData.
+  static int MeshAndSurfaceDataObjects(vtkInformationVector** inputVector, vtkInformationVector* outputVector);
+
   /// Add a feature surface (input port 1).
   void AddSurfaceConnection(vtkAlgorithmOutput* output) { this->AddInputConnection(1, output); }
   void AddSurfaceData(vtkDataObject* data) { this->AddInputData(1, data); }

@@ -55,6 +55,25 @@ os.makedirs(args.output, exist_ok=True)
 summary = []
 
 
+def region_colouring(annotations, colours):
+    """A display set-up: edges, cells coloured by the categories of Region
+    (annotations: value, label, ...; colours: r g b per category)."""
+    def setup(display, view):
+        display.Representation = "Surface With Edges"
+        display.EdgeColor = [0.1, 0.1, 0.2]
+        ColorBy(display, ("CELLS", "Region"))
+        lut = GetColorTransferFunction("Region")
+        lut.InterpretValuesAsCategories = 1
+        lut.Annotations = annotations
+        lut.IndexedColors = colours
+        display.SetScalarBarVisibility(view, True)
+        bar = GetScalarBar(lut, view)
+        bar.Title = "Region"
+        bar.TitleColor = [0, 0, 0]
+        bar.LabelColor = [0, 0, 0]
+    return setup
+
+
 def adapt_inputs(paths):
     """AdaptToShocks with its defaults on each solution: the adapted mesh, the
     surfaces, a cut picture, a summary row; exit 1 if one failed."""
@@ -94,19 +113,8 @@ def adapt_inputs(paths):
         cut.Crinkleslice = 1  # whole cells: the new ones show their size
         cut.UpdatePipeline()
 
-        def regions(display, view):
-            display.Representation = "Surface With Edges"
-            display.EdgeColor = [0.1, 0.1, 0.2]
-            ColorBy(display, ("CELLS", "Region"))
-            lut = GetColorTransferFunction("Region")
-            lut.InterpretValuesAsCategories = 1
-            lut.Annotations = ["0", "kept cells", "1", "new cells", "2", "layer cells"]
-            lut.IndexedColors = [0.85, 0.85, 0.85, 0.55, 0.75, 1.0, 1.0, 0.6, 0.3]
-            display.SetScalarBarVisibility(view, True)
-            bar = GetScalarBar(lut, view)
-            bar.Title = "Region"
-            bar.TitleColor = [0, 0, 0]
-            bar.LabelColor = [0, 0, 0]
+        regions = region_colouring(["0", "kept cells", "1", "new cells", "2", "layer cells"],
+                                   [0.85, 0.85, 0.85, 0.55, 0.75, 1.0, 1.0, 0.6, 0.3])
 
         def flat(view):
             view.ResetCamera()
@@ -342,19 +350,7 @@ summary.append(("wedge15Ma5 EmbeddedRemesh (2-D mode) on the fitted plane: %d ->
                    fw("RelativeVolumeChange"))))
 
 
-def region_edges(display, view):
-    display.Representation = "Surface With Edges"
-    display.EdgeColor = [0.1, 0.1, 0.2]
-    ColorBy(display, ("CELLS", "Region"))
-    lut = GetColorTransferFunction("Region")
-    lut.InterpretValuesAsCategories = 1
-    lut.Annotations = ["0", "kept hexahedra", "1", "new wedges"]
-    lut.IndexedColors = [0.85, 0.85, 0.85, 0.55, 0.75, 1.0]
-    display.SetScalarBarVisibility(view, True)
-    bar = GetScalarBar(lut, view)
-    bar.Title = "Region"
-    bar.TitleColor = [0, 0, 0]
-    bar.LabelColor = [0, 0, 0]
+region_edges = region_colouring(["0", "kept hexahedra", "1", "new wedges"], [0.85, 0.85, 0.85, 0.55, 0.75, 1.0])
 
 
 shock_view = lambda view: (view.ResetCamera(), setattr(view, "CameraPosition", [0.15, 0.07, 1.0]),

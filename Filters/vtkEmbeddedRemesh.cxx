@@ -349,7 +349,7 @@ double vtkEmbeddedRemesh::GetSurfaceSizeFactorUsed() const
   {
     return this->SurfaceSizeFactor;
   }
-  return this->LayerType == PRISMS ? 1.0 : 0.25;
+  return this->LayerType == PRISMS ? 1.0 : 0.2;
 }
 
 //------------------------------------------------------------------------------

@@ -18,7 +18,7 @@
  *    (CGAL isotropic remeshing). 0 (the default) sets it relative to the
  *    input's local size at S, the paper's clustering: SurfaceSizeFactor
  *    times h_S, the median over S's points of the longest edge of V at the
- *    nearest node of V (the paper's l); the automatic factor is 0.25 for
+ *    nearest node of V (the paper's l); the automatic factor is 0.2 for
  *    tetrahedra and 1 with prism layers (which refine across S). A factor
  *    below 1 refines across the feature; the refill grades the size back to
  *    the input's through the cavity, whose radius RemovalFactor *
@@ -195,8 +195,9 @@ public:
   vtkSetClampMacro(SurfaceEdgeLength, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(SurfaceEdgeLength, double);
   /// With SurfaceEdgeLength 0: S's edge length in units of the input's local
-  /// size at S. 0 (the default) is automatic: 0.25 with tetrahedra (four
-  /// times finer across the feature), 1 with prism layers (the layers refine
+  /// size at S. 0 (the default) is automatic: 0.2 with tetrahedra (the new
+  /// cells at S at least 3x finer than the input's, measured by
+  /// SurfaceSizeRatio: 0.26-0.33 on ten OpenFOAM solutions), 1 with prism layers (the layers refine
   /// across S; along it the input's size is kept, the paper's anisotropic
   /// cells). Not clamped: outside [0, 10] it is refused with an error naming it.
   vtkSetMacro(SurfaceSizeFactor, double);

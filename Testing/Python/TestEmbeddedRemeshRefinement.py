@@ -7,10 +7,11 @@ filter:
   property at its default:
   - the input's size at S, h_S (the median over the fitted surface's points
     of the longest edge at the nearest input node), equals the field data's
-    InputSizeAtSurface; S's edge length is 0.25 h_S (SurfaceSizeFactor 0.25);
+    InputSizeAtSurface; S's edge length is 0.2 h_S (SurfaceSizeFactor 0.2);
   - the output's size at the embedded surface (the median longest edge at
-    its nodes, the same measure) equals OutputSizeAtSurface, and is below
-    half the input's (SurfaceSizeRatio their ratio);
+    its nodes, the same measure) equals OutputSizeAtSurface, and is at most
+    a third of the input's (SurfaceSizeRatio their ratio: the issue's
+    "at least 3x smaller across the shock");
   - across the shock (cells whose centroid lies within h_S / 2 of the fitted
     surface, measured analytically from its Apex/HalfAngle or Normal/Origin)
     the mean edge of the output's cells is below 0.55 of the input's, and
@@ -35,7 +36,7 @@ artest.load_plugin(globals())
 messages = vtkStringOutputWindow()
 vtkOutputWindow.SetInstance(messages)
 
-FACTOR = 0.25  # the documented automatic SurfaceSizeFactor with tetrahedra
+FACTOR = 0.2  # the documented automatic SurfaceSizeFactor with tetrahedra
 
 
 def edges_of(t):
@@ -123,8 +124,8 @@ def check_refinement(label, source, fit, distance, cells_factor, depth_axis=None
     check(abs(out_size - f("OutputSizeAtSurface")) <= 1e-9 * out_size,
           "%s: the output's size at S %.5f = OutputSizeAtSurface %.5f (the median longest edge at its %d nodes)"
           % (label, out_size, f("OutputSizeAtSurface"), len(on_s)))
-    check(f("SurfaceSizeRatio") < 0.5 and abs(f("SurfaceSizeRatio") - out_size / hS) < 1e-9,
-          "%s: the new cells at S are %.2f of the input's size there (SurfaceSizeRatio < 0.5)"
+    check(f("SurfaceSizeRatio") <= 1.0 / 3.0 and abs(f("SurfaceSizeRatio") - out_size / hS) < 1e-9,
+          "%s: the new cells at S are %.2f of the input's size there (SurfaceSizeRatio <= 1/3)"
           % (label, f("SurfaceSizeRatio")))
     # Across the shock: within h_S / 2 of the fitted surface.
     band0 = np.abs(distance(c0)) < 0.5 * hS

@@ -4,7 +4,7 @@ property set.
   their defaults (ShockSensor -> FeatureCluster -> QuadricFit of cluster 0
   -> EmbeddedRemesh): node and cell counts, the embedded triangles, p at the
   nodes; port 1 one surface, SurfaceId 0, its template Cone, within 0.5
-  degree of Taylor-Maccoll; refined at the shock (SurfaceSizeRatio < 0.5),
+  degree of Taylor-Maccoll; refined at the shock (SurfaceSizeRatio <= 1/3),
   new tetrahedra at least 10 degrees; the stage times in the field data.
 - The OpenFOAM wedge (one cell deep): a plane within 0.5 degree of
   theta-beta-Mach, still one cell deep (2-D mode); the small cluster split
@@ -13,6 +13,11 @@ property set.
 - The cone as the OpenFOAM reader gives it (a multiblock of internalMesh
   and patches): a multiblock out, the patches' face counts unchanged.
 - ClusterTemplates [0, Plane] overrides the automatic choice.
+- A shock cut by every boundary (the analytic oblique shock turned so that
+  its plane cuts all six faces of the cube): one plane within 0.5 degree of
+  the exact one and one cell of its Mn = 1 plane, reaching all six faces;
+  the mesh refined (size ratio <= 1/3), new tetrahedra >= 10 degrees, valid
+  (artest.check_valid_mesh).
 - Bad and borderline input, each an error naming the cause and the input
   passed through: a uniform flow (no shock), no flow arrays, Mode 3,
   MinimumClusterFraction 0.
@@ -57,7 +62,7 @@ check(f(out, "NumberOfSurfaces") == 1 and templates.GetValue(0) == "Cone" and ab
 ids = np.asarray(surf.CellData["SurfaceId"])
 check(surf.GetNumberOfCells() == artest.fetch(fit).GetNumberOfCells() and set(ids) == {0},
       "cone: port 1 holds the fitted surface (%d triangles), SurfaceId 0" % surf.GetNumberOfCells())
-check(f(out, "SurfaceSizeRatio") < 0.5 and f(out, "MinDihedralAngleNew") >= 10.0
+check(f(out, "SurfaceSizeRatio") <= 1.0 / 3.0 and f(out, "MinDihedralAngleNew") >= 10.0
       and f(out, "OutputNodes") > f(out, "InputNodes"),
       "cone: refined at the shock (size ratio %.2f), new tetrahedra >= %.1f deg, %d -> %d nodes"
       % (f(out, "SurfaceSizeRatio"), f(out, "MinDihedralAngleNew"), f(out, "InputNodes"), f(out, "OutputNodes")))
@@ -98,6 +103,48 @@ check(out_mb.IsA("vtkMultiBlockDataSet") and out_mb.GetBlock(0).GetNumberOfPoint
 over = artest.fetch(AdaptToShocks(Input=cone, ClusterTemplates=[0, 0]))
 check(over.FieldData["SurfaceTemplates"].GetValue(0) == "Plane",
       "ClusterTemplates [0, 0]: cluster 0 gets a plane")
+
+
+# ---- A shock cut by every boundary: the analytic oblique shock
+# (Data/analytic_shock.py, smeared over delta = 1/16) on the Gmsh cube of
+# Data/oblique_shock_unstructured.vtu, turned so that its plane through the
+# centre cuts all six faces (a hexagon). One plane within 0.5 degree of the
+# exact normal and within one cell of the exact Mn = 1 plane, trimmed to the
+# domain on all six faces; the mesh refined and valid.
+from analytic_shock import ObliqueShock
+from vtkmodules.util.numpy_support import numpy_to_vtk
+cube = artest.fetch(XMLUnstructuredGridReader(FileName=[artest.data("oblique_shock_unstructured.vtu")]))
+shock = ObliqueShock(rotation_deg=(-10.0, -60.0, -60.0))
+n_exact = shock.normal
+check(min(abs(n_exact[(i + 1) % 3]) + abs(n_exact[(i + 2) % 3]) - abs(n_exact[i]) for i in range(3)) > 0.3,
+      "the turned shock plane cuts all six faces of the cube (normal %s)" % np.round(n_exact, 3))
+g = vtkUnstructuredGrid()
+g.CopyStructure(cube.VTKObject)
+for name, values in shock.fields(np.asarray(cube.Points)).items():
+    if name in ("U", "p", "rho", "T"):
+        a = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float64), deep=1)
+        a.SetName(name)
+        g.GetPointData().AddArray(a)
+turned = PVTrivialProducer()
+turned.GetClientSideObject().SetOutput(g)
+a6 = AdaptToShocks(Input=turned)
+o6, s6 = artest.fetch(a6), artest.fetch(a6, 1)
+check("Region" in o6.CellData.keys() and f(o6, "NumberOfSurfaces") == 1
+      and s6.FieldData["Template"].GetValue(0) == "Plane",
+      "cut by every boundary: adapted, one surface, a plane")
+n6 = artest.field(s6, "Normal")
+offset = (artest.field(s6, "Origin") - shock.origin) @ n_exact
+h6 = f(o6, "InputSizeAtSurface")
+check(artest.angle_between_planes(n6, n_exact) < 0.5 and abs(offset - shock.normal_mach_unity_offset()) < h6,
+      "cut by every boundary: the plane is %.2f deg from the exact one, %.4f from the Mn = 1 plane (one cell: %.4f)"
+      % (artest.angle_between_planes(n6, n_exact), abs(offset - shock.normal_mach_unity_offset()), h6))
+P6 = np.asarray(s6.Points)
+touched = [int((np.abs(P6[:, k] - v) < 1e-6).sum() > 0) for k in range(3) for v in (0.0, 1.0)]
+check(sum(touched) == 6, "cut by every boundary: the trimmed surface reaches all six faces (%s)" % touched)
+check(f(o6, "SurfaceSizeRatio") <= 1.0 / 3.0 and f(o6, "MinDihedralAngleNew") >= 10.0,
+      "cut by every boundary: size ratio %.2f, new tetrahedra >= %.1f deg"
+      % (f(o6, "SurfaceSizeRatio"), f(o6, "MinDihedralAngleNew")))
+artest.check_valid_mesh("cut by every boundary", cube, o6)
 
 
 # ---- Bad and borderline input.

@@ -456,3 +456,46 @@ def cone_shock_fit(cone):
                          Gamma=field(fetch(cone), "Gamma")[0])
     clusters = FeatureCluster(Input=sensor, SensorArray=["POINTS", "NormalMach"], SensorRange=[0.8, 1.2])
     return QuadricFit(Input=OutputPort(clusters, 1), Domain=cone, Template="Cone", ClusterId=0)
+
+
+def check_valid_mesh(label, source, output, embedded=None):
+    """The usual validity of an adapted mesh (wrapped grids `source` in,
+    `output` out): every corner Jacobian of every cell positive (tetrahedra,
+    pyramids, prisms, hexahedra; NonPositiveJacobianCells 0), conforming (no
+    triangle or quad face in more than two cells), the boundary equal to the
+    input's face for face and watertight (every boundary edge in two boundary
+    faces), the volume (by the divergence theorem over the faces) conserved
+    to 1e-9, and, given the embedded surface (a wrapped polydata of
+    triangles or quads), each of its faces a face between two cells."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    P0, P1 = np.asarray(source.Points, dtype=np.float64), np.asarray(output.Points, dtype=np.float64)
+    types0, cells0 = cells_of(source)
+    types1, cells1 = cells_of(output)
+    worst = []
+    for t in (VTK_TETRA, VTK_PYRAMID, VTK_WEDGE, VTK_HEXAHEDRON):
+        idx, C = by_type(types1, cells1, t)
+        if len(idx):
+            worst.append((corner_jacobians(P1, C, t).min(), TYPE_NAMES[t], len(idx)))
+    known = sum(n for _, _, n in worst)
+    check(known == len(types1) and min(w for w, _, _ in worst) > 0
+          and field(output, "NonPositiveJacobianCells")[0] == 0,
+          "%s: every corner Jacobian is positive (%s)" % (label, ", ".join(
+              "%d %s, min %.2e" % (n, name, w) for w, name, n in worst)))
+    count0, _ = faces(P0, types0, cells0)
+    count1, corners1 = faces(P1, types1, cells1)
+    b0 = {k for k, c in count0.items() if c == 1}
+    b1 = {k for k, c in count1.items() if c == 1}
+    edges = boundary_edges(corners1, b1)
+    check(max(count1.values()) <= 2 and b0 == b1 and set(edges.values()) == {2},
+          "%s: conforming, the boundary is the input's face for face (%d faces), watertight (%d edges)"
+          % (label, len(b1), len(edges)))
+    v0, v1 = cell_volumes(P0, types0, cells0), cell_volumes(P1, types1, cells1)
+    check(v1.min() > 0 and abs(v1.sum() / v0.sum() - 1) < 1e-9,
+          "%s: every cell's volume positive, the total conserved (%.1e relative)" % (label, v1.sum() / v0.sum() - 1))
+    if embedded is not None and embedded.GetNumberOfCells() > 0:
+        PS = np.asarray(embedded.Points, dtype=np.float64)
+        polys = embedded.VTKObject.GetPolys()
+        off, conn = vtk_to_numpy(polys.GetOffsetsArray()), vtk_to_numpy(polys.GetConnectivityArray())
+        on = [count1.get(coord_key(PS, conn[off[i]:off[i + 1]]), 0) for i in range(len(off) - 1)]
+        check(all(c == 2 for c in on), "%s: all %d faces of the embedded surface are faces between two cells"
+              % (label, len(on)))

@@ -486,9 +486,20 @@ def check_valid_mesh(label, source, output, embedded=None):
     b0 = {k for k, c in count0.items() if c == 1}
     b1 = {k for k, c in count1.items() if c == 1}
     edges = boundary_edges(corners1, b1)
-    check(max(count1.values()) <= 2 and b0 == b1 and set(edges.values()) == {2},
-          "%s: conforming, the boundary is the input's face for face (%d faces), watertight (%d edges)"
-          % (label, len(b1), len(edges)))
+    check(max(count1.values()) <= 2 and set(edges.values()) == {2},
+          "%s: conforming (no face in more than two cells), watertight (each of %d boundary edges in two "
+          "boundary faces)" % (label, len(edges)))
+    # A one-cell-deep (2-D) mesh is remeshed on its front and back planes: the
+    # boundary off them must be the input's.
+    depth = [k for k in range(3) if len(np.unique(P0[:, k])) == 2]
+    if depth:
+        levels = np.round(np.unique(P0[:, depth[0]]) * 1e9).astype(np.int64)  # as the face keys hold them
+        def off_planes(keys):
+            return {k for k in keys
+                    if not any(np.all(np.frombuffer(k, dtype=np.int64).reshape(-1, 3)[:, depth[0]] == z) for z in levels)}
+        b0, b1 = off_planes(b0), off_planes(b1)
+    check(b0 == b1, "%s: the boundary%s is the input's, face for face (%d faces)"
+          % (label, " off the front and back planes" if depth else "", len(b1)))
     v0, v1 = cell_volumes(P0, types0, cells0), cell_volumes(P1, types1, cells1)
     check(v1.min() > 0 and abs(v1.sum() / v0.sum() - 1) < 1e-9,
           "%s: every cell's volume positive, the total conserved (%.1e relative)" % (label, v1.sum() / v0.sum() - 1))

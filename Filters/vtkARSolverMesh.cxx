@@ -381,24 +381,33 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     for (vtkIdType i = 0; i < npts; ++i)
     {
       const vtkIdType p = ids->GetId(type == VTK_VOXEL ? voxelToHex[i] : i);
-      if (pointMap[p] < 0)
-      {
-        double x[3];
-        volume->GetPoint(p, x);
-        if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-        {
-          error = "point " + std::to_string(p) + " of the volume has a NaN or Inf coordinate";
-          return false;
-        }
-        pointMap[p] = this->GetNumberOfPoints();
-        this->Points.insert(this->Points.end(), x, x + 3);
-        this->InputPointIds.push_back(p);
-      }
-      this->CellConnectivity.push_back(pointMap[p]);
+      pointMap[p] = 0; // used; numbered below, in input order
+      this->CellConnectivity.push_back(p);
     }
     this->CellTypes.push_back(written);
     this->InputCellIds.push_back(c);
     this->CellOffsets.push_back(static_cast<vtkIdType>(this->CellConnectivity.size()));
+  }
+  for (vtkIdType p = 0; p < nInputPoints; ++p)
+  {
+    if (pointMap[p] < 0)
+    {
+      continue;
+    }
+    double x[3];
+    volume->GetPoint(p, x);
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+    {
+      error = "point " + std::to_string(p) + " of the volume has a NaN or Inf coordinate";
+      return false;
+    }
+    pointMap[p] = this->GetNumberOfPoints();
+    this->Points.insert(this->Points.end(), x, x + 3);
+    this->InputPointIds.push_back(p);
+  }
+  for (vtkIdType& p : this->CellConnectivity)
+  {
+    p = pointMap[p];
   }
   if (this->CellTypes.empty())
   {

@@ -301,12 +301,15 @@ bool ReadDictionary(const fs::path& path, std::vector<Entry>& entries,
 
 // ============================================================================
 // ---- Numbers as text.
-/// Shortest text that reads back as the same float (single) or double.
+/// Shortest text that reads back as the same double; for a value that is
+/// exactly a float (`single` data, or any value a float holds exactly, as
+/// the OpenFOAM reader's floats carried through double arrays are), the
+/// shortest text that reads back as that float: the source's own digits.
 void AppendNumber(std::string& s, double v, bool single)
 {
   char buffer[40];
   int n = 0;
-  if (single)
+  if (single || static_cast<double>(static_cast<float>(v)) == v)
   {
     const float f = static_cast<float>(v);
     for (int p = 6; p <= 9; ++p)

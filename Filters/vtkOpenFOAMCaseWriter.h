@@ -33,9 +33,11 @@
  * vtkARSolverMesh): the OpenFOAM reader's multiblock, an unstructured grid
  * with `PatchId`/`PatchNames` boundary cells (EmbeddedRemesh's output), or
  * a plain volume (one patch, DefaultPatchName). Coordinates and values that
- * are exactly single precision (the OpenFOAM reader gives floats) are
+ * are exactly single precision (the OpenFOAM reader gives floats, and
+ * filters such as EmbeddedRemesh carry them over in double arrays) are
  * written with the shortest text that reads back as the same float, so the
- * source's own digits come back; doubles with up to 17 digits.
+ * source's own digits come back; other values with the shortest text that
+ * reads back as the same double (at most 17 digits).
  *
  * Patch types. With SourceCase: each patch's entries in the source's
  * `constant/polyMesh/boundary` (type, inGroups, physicalType, ...) but

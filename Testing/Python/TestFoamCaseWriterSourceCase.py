@@ -29,6 +29,14 @@ reader at its latest time.
     cell count and finite, positive p and T.
 (c) A malformed SourceCase boundary file and a SourceTime the source does
     not have: an error naming the cause, nothing written.
+(d) A hand-written source time 0 (SourceTime "0"): `value $internalField`,
+    a quoted regular expression, a group name (inGroups), a top-level
+    macro, inletOutlet and mixed entries with nonuniform lists, a field the
+    input has no array for: the entries found as OpenFOAM finds them,
+    constraint types kept, `$internalField` replaced by the uniform value,
+    the value list from the cells next to the faces, refValue uniform at its
+    mean, the missing field uniform; foamDictionary -expand reads every field
+    and rhoCentralFoam runs 2 steps on the case.
 """
 import filecmp
 import os
@@ -275,6 +283,112 @@ check(ok and times and abs(max(times) - 1e-4) < 1e-9 and sorted(arrays) == FIELD
       all(np.all(np.isfinite(a)) for a in arrays.values()) and arrays["p"].min() > 0 and arrays["T"].min() > 0,
       "adapted: the solution at t = %s reads back in ParaView: %s cells, fields %s finite, p and T positive"
       % (max(times) if times else None, back.GetNumberOfCells() if back is not None else None, sorted(arrays)))
+
+
+# ================================================ (d) boundary entries as people write them
+# A source whose time 0 uses a `$internalField` value, a quoted regular
+# expression, a group name, a top-level macro, nonuniform refValue / value
+# lists and a field (alpha) the input has no array for.
+HAND = os.path.join(OUT, "handwritten_source")
+shutil.copytree(SRC, HAND, ignore=shutil.ignore_patterns("0*", "log.*"))
+os.makedirs(os.path.join(HAND, "0"))
+HEAD = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
+outlet_T = " ".join("%g" % (1 + 0.01 * i) for i in range(40))
+outlet_U = " ".join("(%g 0 0)" % (1 + 0.1 * i) for i in range(40))
+HAND_FIELDS = {
+    "p": HEAD % ("volScalarField", "p") + """dimensions [1 -1 -2 0 0 0 0];
+internalField uniform 1;
+boundaryField
+{
+    inlet { type fixedValue; value $internalField; }
+    "(outlet|obstacle)" { type zeroGradient; }
+    symmetryPlane { type symmetryPlane; }
+    defaultFaces { type empty; }
+}
+""",
+    "T": HEAD % ("volScalarField", "T") + """Tinlet 1;
+dimensions [0 0 0 1 0 0 0];
+internalField uniform 1;
+boundaryField
+{
+    inlet { type fixedValue; value uniform $Tinlet; }
+    outlet { type inletOutlet; inletValue uniform 1; value nonuniform List<scalar> 40(%s); }
+    ".*" { type zeroGradient; }
+}
+""" % outlet_T,
+    "U": HEAD % ("volVectorField", "U") + """dimensions [0 1 -1 0 0 0 0];
+internalField uniform (5 0 0);
+boundaryField
+{
+    inlet { type fixedValue; value uniform (5 0 0); }
+    outlet { type mixed; refValue nonuniform List<vector> 40(%s); refGradient uniform (0 0 0);
+             valueFraction uniform 0; value nonuniform List<vector> 40(%s); }
+    obstacle { type slip; }
+    ".*" { type symmetryPlane; }
+    defaultFaces { type empty; }
+}
+""" % (outlet_U, outlet_U),
+    "alpha": HEAD % ("volScalarField", "alpha") + """dimensions [0 0 0 0 0 0 0];
+internalField uniform 0.5;
+boundaryField { ".*" { type zeroGradient; } defaultFaces { type empty; } }
+""",
+}
+for name, text in HAND_FIELDS.items():
+    with open(os.path.join(HAND, "0", name), "w") as f:
+        f.write(text)
+case = os.path.join(OUT, "handwritten")
+before = len(messages.GetOutput())
+SaveData(os.path.join(case, "handwritten.foam"), proxy=reader, SourceCase=HAND, SourceTime="0")
+text = messages.GetOutput()[before:]
+check("ERROR" not in text and "no array 'alpha'" in text,
+      "handwritten: written, with a warning that alpha (no input array) is written uniform %r" % text[-300:])
+written = sorted(os.listdir(os.path.join(case, "0")))
+check(written == ["T", "U", "alpha", "p"], "handwritten: the source's fields at 0 are written (not rho): %s" % written)
+fields = {f: foamcase.read_field(os.path.join(case, "0", f)) for f in written}
+_, _, _, _, boundary = foamcase.read_polymesh(case)
+_, _, owner, neighbour, _ = foamcase.read_polymesh(case)
+start = {name: (int(e["startFace"]), int(e["nFaces"])) for name, e in boundary}
+
+
+def entry_type(f, patch):
+    return re.search(r"type\s+(\w+);", fields[f][3][patch]).group(1)
+
+
+check(re.search(r"value\s+uniform 1;", fields["p"][3]["inlet"]) is not None,
+      "handwritten: p inlet's `value $internalField` becomes the source's uniform internalField")
+check(entry_type("p", "outlet") == entry_type("p", "obstacle") == "zeroGradient",
+      "handwritten: p's regular expression \"(outlet|obstacle)\" gives both patches zeroGradient")
+check(entry_type("p", "bottom") == entry_type("p", "top") == "symmetryPlane",
+      "handwritten: p's group entry symmetryPlane reaches bottom and top (inGroups)")
+with open(os.path.join(case, "0", "T")) as f:
+    t_text = f.read()
+s0, n0 = start["outlet"]
+t_out = foamcase.nonuniform_values(fields["T"][3]["outlet"])
+check(re.search(r"^Tinlet 1;", t_text, re.M) is not None and "uniform $Tinlet" in fields["T"][3]["inlet"] and
+      "inletValue uniform 1" in fields["T"][3]["outlet"] and t_out is not None and len(t_out) == n0 and
+      np.array_equal(np.asarray(t_out, np.float32), np.asarray(fields["T"][2], np.float32)[owner[s0:s0 + n0]]),
+      "handwritten: T keeps its macro Tinlet and inletOutlet entries; its value list is the outlet cells' values")
+check(entry_type("T", "bottom") == "symmetryPlane" and entry_type("T", "defaultFaces") == "empty",
+      "handwritten: T's \".*\" zeroGradient is overridden by the constraint types symmetryPlane and empty")
+ref = re.search(r"refValue\s+uniform\s+\(([^)]*)\)", fields["U"][3]["outlet"])
+mean = np.mean([1 + 0.1 * i for i in range(40)])
+check(ref is not None and np.allclose([float(v) for v in ref.group(1).split()], [mean, 0, 0], rtol=1e-12),
+      "handwritten: U outlet's nonuniform refValue becomes uniform at its mean (%s)" % (ref.group(1) if ref else None))
+check(fields["alpha"][2] == "uniform 0.5" and entry_type("alpha", "inlet") == "zeroGradient",
+      "handwritten: alpha (no input array) is written uniform 0.5, as the source's internalField")
+ok = True
+for f in written:
+    rc, log = foamcase.run(BASHRC, case, "foamDictionary -expand 0/%s" % f)
+    ok &= rc == 0
+check(ok, "handwritten: OpenFOAM's foamDictionary reads and expands every written field")
+for command in ("foamDictionary -entry deltaT -set 1e-05 system/controlDict",
+                "foamDictionary -entry endTime -set 2e-05 system/controlDict",
+                "foamDictionary -entry writeInterval -set 2e-05 system/controlDict"):
+    foamcase.run(BASHRC, case, command)
+rc, log = foamcase.run(BASHRC, case, "rhoCentralFoam")
+check(rc == 0 and log.rstrip().endswith("End"), "handwritten: rhoCentralFoam runs 2 steps with these boundary conditions (exit %d)" % rc)
+if rc != 0:
+    artest.say(log[-1500:])
 
 
 # ================================================ (c) bad source cases

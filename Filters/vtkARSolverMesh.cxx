@@ -339,6 +339,7 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
   }
 
   // ---- Volume cells, compact points.
+  this->Volume = volume;
   const vtkIdType nInputCells = volume->GetNumberOfCells();
   const vtkIdType nInputPoints = volume->GetNumberOfPoints();
   std::vector<vtkIdType> pointMap(static_cast<size_t>(nInputPoints), -1);
@@ -380,22 +381,33 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     for (vtkIdType i = 0; i < npts; ++i)
     {
       const vtkIdType p = ids->GetId(type == VTK_VOXEL ? voxelToHex[i] : i);
-      if (pointMap[p] < 0)
-      {
-        double x[3];
-        volume->GetPoint(p, x);
-        if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-        {
-          error = "point " + std::to_string(p) + " of the volume has a NaN or Inf coordinate";
-          return false;
-        }
-        pointMap[p] = this->GetNumberOfPoints();
-        this->Points.insert(this->Points.end(), x, x + 3);
-      }
-      this->CellConnectivity.push_back(pointMap[p]);
+      pointMap[p] = 0; // used; numbered below, in input order
+      this->CellConnectivity.push_back(p);
     }
     this->CellTypes.push_back(written);
+    this->InputCellIds.push_back(c);
     this->CellOffsets.push_back(static_cast<vtkIdType>(this->CellConnectivity.size()));
+  }
+  for (vtkIdType p = 0; p < nInputPoints; ++p)
+  {
+    if (pointMap[p] < 0)
+    {
+      continue;
+    }
+    double x[3];
+    volume->GetPoint(p, x);
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+    {
+      error = "point " + std::to_string(p) + " of the volume has a NaN or Inf coordinate";
+      return false;
+    }
+    pointMap[p] = this->GetNumberOfPoints();
+    this->Points.insert(this->Points.end(), x, x + 3);
+    this->InputPointIds.push_back(p);
+  }
+  for (vtkIdType& p : this->CellConnectivity)
+  {
+    p = pointMap[p];
   }
   if (this->CellTypes.empty())
   {
@@ -488,6 +500,7 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
       p.Connectivity.push_back(cell[face[i]]);
     }
     p.Offsets.push_back(static_cast<vtkIdType>(p.Connectivity.size()));
+    p.Cells.push_back(record.Cell);
   };
   // Assigns one input face (model point ids) to a patch.
   auto assign = [&](int patch, const vtkIdType* fids, int n, const std::string& what) {
@@ -746,6 +759,72 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     progress->UpdateProgress(0.5);
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkARSolverMesh::GetInternalFaces(std::vector<vtkIdType>& owner,
+  std::vector<vtkIdType>& neighbour, std::vector<vtkIdType>& offsets,
+  std::vector<vtkIdType>& connectivity) const
+{
+  struct Shared
+  {
+    vtkIdType Owner, Neighbour;
+    int LocalFace;
+  };
+  std::vector<Shared> shared;
+  {
+    // Cells in increasing order: a face's first cell is its owner.
+    std::unordered_map<FaceKey, std::pair<vtkIdType, int>, FaceKeyHash> open;
+    open.reserve(static_cast<size_t>(this->GetNumberOfCells()) * 2);
+    for (vtkIdType c = 0; c < this->GetNumberOfCells(); ++c)
+    {
+      const unsigned char type = this->CellTypes[c];
+      const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
+      for (int f = 0; f < NumberOfFaces(type); ++f)
+      {
+        const int* face = Face(type, f);
+        const int n = FaceSize(face);
+        vtkIdType fids[4];
+        for (int i = 0; i < n; ++i)
+        {
+          fids[i] = cell[face[i]];
+        }
+        const FaceKey key = MakeKey(fids, n);
+        auto it = open.find(key);
+        if (it == open.end())
+        {
+          open.emplace(key, std::make_pair(c, f));
+        }
+        else
+        {
+          shared.push_back({ it->second.first, c, it->second.second });
+          open.erase(it);
+        }
+      }
+    }
+  }
+  std::stable_sort(shared.begin(), shared.end(), [](const Shared& a, const Shared& b) {
+    return a.Owner != b.Owner ? a.Owner < b.Owner : a.Neighbour < b.Neighbour;
+  });
+  owner.resize(shared.size());
+  neighbour.resize(shared.size());
+  offsets.assign(1, 0);
+  offsets.reserve(shared.size() + 1);
+  connectivity.clear();
+  connectivity.reserve(shared.size() * 4);
+  for (size_t i = 0; i < shared.size(); ++i)
+  {
+    owner[i] = shared[i].Owner;
+    neighbour[i] = shared[i].Neighbour;
+    const unsigned char type = this->CellTypes[shared[i].Owner];
+    const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[shared[i].Owner];
+    const int* face = Face(type, shared[i].LocalFace);
+    for (int k = 0; k < FaceSize(face); ++k)
+    {
+      connectivity.push_back(cell[face[k]]);
+    }
+    offsets.push_back(static_cast<vtkIdType>(connectivity.size()));
+  }
 }
 
 //------------------------------------------------------------------------------

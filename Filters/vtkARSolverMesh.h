@@ -3,7 +3,8 @@
  * @class vtkARSolverMesh
  * @brief Private: the volume mesh and its boundary patches, as the solver writers need them.
  *
- * Not part of the public API. Shared by vtkGmshWriter and vtkSU2Writer:
+ * Not part of the public API. Shared by vtkGmshWriter, vtkSU2Writer and
+ * vtkOpenFOAMCaseWriter:
  * `Build` turns any of the three accepted inputs into one flat model —
  *
  *   (a) a vtkMultiBlockDataSet as ParaView's OpenFOAM reader gives it: the
@@ -56,6 +57,7 @@
 
 class vtkAlgorithm;
 class vtkDataObject;
+class vtkDataSet;
 
 class vtkARSolverMesh
 {
@@ -65,6 +67,7 @@ public:
     std::string Name;
     std::vector<vtkIdType> Offsets{ 0 };
     std::vector<vtkIdType> Connectivity; // outward-oriented, model point ids
+    std::vector<vtkIdType> Cells; // the model cell each face belongs to
     vtkIdType GetNumberOfFaces() const { return static_cast<vtkIdType>(this->Offsets.size()) - 1; }
   };
 
@@ -73,6 +76,12 @@ public:
   std::vector<vtkIdType> CellOffsets{ 0 };
   std::vector<vtkIdType> CellConnectivity; // VTK node order, model point ids
   std::vector<Patch> Patches;
+  /// The dataset the volume cells came from (not owned: valid while the
+  /// input lives), and for each model point / cell its id there: the point
+  /// and cell arrays of the input are read through these.
+  vtkDataSet* Volume = nullptr;
+  std::vector<vtkIdType> InputPointIds;
+  std::vector<vtkIdType> InputCellIds;
   /// Which input form was recognized: "multiblock", "PatchId" or "volume only".
   std::string Form;
   /// Warnings collected while building (one per line).
@@ -86,6 +95,13 @@ public:
   /// calls in [0, 0.5]. Returns false with `error` set on bad input.
   bool Build(vtkDataObject* input, const std::string& defaultPatchName, double tolerance,
     vtkAlgorithm* progress, std::string& error);
+
+  /// The faces shared by two model cells, in OpenFOAM's upper-triangular
+  /// order: sorted by owner (the lower cell id), then by neighbour; each
+  /// face as the owner's cell face, so its right-hand normal points from
+  /// owner to neighbour. `offsets` starts with 0.
+  void GetInternalFaces(std::vector<vtkIdType>& owner, std::vector<vtkIdType>& neighbour,
+    std::vector<vtkIdType>& offsets, std::vector<vtkIdType>& connectivity) const;
 
   /// Patch names as the formats need them: no whitespace, quotes or '=',
   /// not empty. Returns the cleaned name (and says so in Warnings).

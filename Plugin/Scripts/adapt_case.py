@@ -1,0 +1,323 @@
+"""Adapt an OpenFOAM case to its shocks, and optionally run the solver on it.
+
+    pvbatch Plugin/Scripts/adapt_case.py SOURCE_CASE TARGET_CASE
+            [--cycles N] [--solve] [--np K] [--config FILE] [--plugin PATH]
+
+SOURCE_CASE  an OpenFOAM case with a solution (its latest time is read, with
+             every patch, by ParaView's OpenFOAM reader; no .foam file needed)
+TARGET_CASE  a new (or empty) directory: cycle K's case is TARGET_CASE/cycleK,
+             and TARGET_CASE/report.md says what each cycle did
+--cycles N   adapt-solve cycles (default 1). Cycle K > 1 adapts the solution
+             of cycle K-1, so every cycle but the last needs --solve
+--solve      run the case's own application (controlDict's `application`)
+             to its endTime after writing it; without it the case is only
+             written, ready to run
+--np K       solve on K MPI ranks (decomposePar, method simple: K slabs
+             along the longest side, as Debian's OpenFOAM has no scotch;
+             mpirun -np K APP -parallel; reconstructPar); default 1, serial
+--config F   a JSON object: {"AdaptToShocks": {property: value, ...},
+             "controlDict": {keyword: value, ...}}; the first are AdaptToShocks'
+             properties (its defaults otherwise), the second replace entries of
+             the written cases' system/controlDict (e.g. endTime, writeInterval)
+--plugin P   the plugin (default: $AR_PLUGIN, else the build tree's)
+
+Each cycle: AdaptToShocks with its defaults (or the config's properties) on
+the source's latest time; the OpenFOAM case writer (vtkOpenFOAMCaseWriter)
+with the source as SourceCase, so patch names and types, the fields' boundary
+conditions, constant/ and system/ come from it; controlDict starts at time 0
+(startFrom startTime) and its deltaT is scaled by the ratio of the smallest
+cell's size after and before (V^(1/3), or sqrt of the cross-section area for
+one-cell-deep cases), never raised, so the first step is stable on the new
+smallest cell (adjustTimeStep then takes over where the case uses it). The
+report gives per cycle: nodes and cells by type, the fitted surfaces, the
+size at the shock, the smallest-angle histogram of the new cells, deltaT,
+and the solver's wall time and exit status.
+
+Exit status 0 when every cycle was written (and solved, with --solve); 1 with
+a message naming the failure otherwise; the report holds what was done.
+"""
+import argparse
+import glob
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+from paraview.simple import LoadPlugin, OpenFOAMReader, SaveData, servermanager, Delete
+
+FOAM_BASHRC = os.environ.get("AR_OPENFOAM_BASHRC", "/usr/share/openfoam/etc/bashrc")
+TYPE_NAMES = {10: "tetrahedra", 12: "hexahedra", 13: "prisms", 14: "pyramids", 11: "voxels", 42: "polyhedra"}
+
+
+def fail(message):
+    print("adapt_case.py: " + message, file=sys.stderr)
+    sys.exit(1)
+
+
+def latest_time(case):
+    times = []
+    for d in os.listdir(case):
+        try:
+            if os.path.isdir(os.path.join(case, d)):
+                times.append((float(d), d))
+        except ValueError:
+            pass
+    return max(times)[1] if times else None
+
+
+def foam(cmd, cwd, log):
+    """Runs an OpenFOAM command line in `cwd` with OpenFOAM's environment;
+    its output goes to `log`. Returns (exit code, seconds)."""
+    if not os.path.exists(FOAM_BASHRC):
+        fail("OpenFOAM is not installed (%s missing): apt-get install openfoam (the README's set-up installs it)"
+             % FOAM_BASHRC)
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_", "HYDRA_"))}
+    t = time.time()
+    with open(log, "w") as out:
+        r = subprocess.run(["bash", "-c", "source %s >/dev/null 2>&1; %s" % (FOAM_BASHRC, cmd)], cwd=cwd, env=env,
+                           stdout=out, stderr=subprocess.STDOUT)
+    return r.returncode, time.time() - t
+
+
+def dict_entry(text, key):
+    m = re.search(r"^\s*%s\s+([^;]+);" % re.escape(key), text, re.M)
+    return m.group(1).strip() if m else None
+
+
+def set_entry(text, key, value):
+    pattern = re.compile(r"^(\s*%s\s+)([^;]+);" % re.escape(key), re.M)
+    if pattern.search(text):
+        return pattern.sub(lambda m: m.group(1) + str(value) + ";", text, count=1)
+    return text.rstrip() + "\n%s %s;\n" % (key, value)
+
+
+def blocks(data):
+    """The leaves of a (multiblock) dataset."""
+    if data.IsA("vtkMultiBlockDataSet"):
+        out = []
+        for i in range(data.GetNumberOfBlocks()):
+            b = data.GetBlock(i)
+            if b is not None:
+                out += blocks(b)
+        return out
+    return [data]
+
+
+def volume_of(data):
+    """The 3-D cells' grid of a reader or AdaptToShocks output (block
+    internalMesh, or the first leaf with 3-D cells)."""
+    leaves = blocks(data)
+    for leaf in leaves:
+        if leaf.GetNumberOfCells() and leaf.GetCell(0).GetCellDimension() == 3:
+            return leaf
+    return None
+
+
+def cell_scale(grid):
+    """The smallest cell's size: V^(1/3), or for a one-cell-deep mesh the
+    square root of the cross-section area (V / depth)."""
+    from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    f = vtkCellSizeFilter()
+    f.SetInputData(grid)
+    f.ComputeVolumeOn()
+    f.Update()
+    v = vtk_to_numpy(f.GetOutput().GetCellData().GetArray("Volume"))
+    v = v[v > 0]
+    P = vtk_to_numpy(grid.GetPoints().GetData())
+    depth = [k for k in range(3) if len(np.unique(P[:, k])) == 2]
+    if depth:
+        d = np.ptp(P[:, depth[0]])
+        return float(np.sqrt(v.min() / d)), True
+    return float(v.min() ** (1.0 / 3.0)), False
+
+
+def cell_types(grid):
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    t = vtk_to_numpy(grid.GetCellTypesArray())
+    return {TYPE_NAMES.get(int(k), str(k)): int((t == k).sum()) for k in np.unique(t)}
+
+
+def field(data, name):
+    a = data.GetFieldData().GetAbstractArray(name)
+    if a is None:
+        return None
+    if a.IsA("vtkStringArray"):
+        return [a.GetValue(i) for i in range(a.GetNumberOfValues())]
+    return [a.GetTuple(i)[c] for i in range(a.GetNumberOfTuples()) for c in range(a.GetNumberOfComponents())]
+
+
+def angle_histogram(grid):
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    region = grid.GetCellData().GetArray("Region")
+    angle = grid.GetCellData().GetArray("MinDihedralAngle")
+    if region is None or angle is None:
+        return None
+    new = vtk_to_numpy(angle)[vtk_to_numpy(region) == 1]
+    edges = [0, 10, 20, 30, 40, 50, 60, 90]
+    counts, _ = np.histogram(new, bins=edges)
+    return edges, counts, float(new.min()) if len(new) else float("nan")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("source")
+    ap.add_argument("target")
+    ap.add_argument("--cycles", type=int, default=1)
+    ap.add_argument("--solve", action="store_true")
+    ap.add_argument("--np", type=int, default=1)
+    ap.add_argument("--config")
+    ap.add_argument("--plugin")
+    args = ap.parse_args()
+    source, target = os.path.abspath(args.source), os.path.abspath(args.target)
+    if args.cycles < 1:
+        fail("--cycles is %d; it must be at least 1" % args.cycles)
+    if args.np < 1:
+        fail("--np is %d; it must be at least 1" % args.np)
+    if args.cycles > 1 and not args.solve:
+        fail("--cycles %d needs --solve: cycle 2 adapts the solution of cycle 1" % args.cycles)
+    if not os.path.isfile(os.path.join(source, "system", "controlDict")) or \
+            not os.path.isfile(os.path.join(source, "constant", "polyMesh", "boundary")):
+        fail("%s is not an OpenFOAM case (system/controlDict or constant/polyMesh/boundary missing)" % source)
+    if latest_time(source) is None:
+        fail("%s has no time directory with a solution" % source)
+    if os.path.exists(target) and os.listdir(target):
+        fail("%s exists and is not empty; give a new directory" % target)
+    config = {}
+    if args.config:
+        try:
+            with open(args.config) as f:
+                config = json.load(f)
+        except (OSError, ValueError) as e:
+            fail("cannot read the config %s: %s" % (args.config, e))
+        unknown = set(config) - {"AdaptToShocks", "controlDict"}
+        if not isinstance(config, dict) or unknown:
+            fail("the config must be a JSON object with the keys AdaptToShocks and controlDict (found %s)"
+                 % sorted(unknown))
+    plugin = args.plugin or os.environ.get("AR_PLUGIN") or os.path.join(
+        os.path.dirname(os.path.abspath(__file__)), "..", "..", "build", "lib", "paraview-5.11", "plugins",
+        "AdaptiveRedistribution", "AdaptiveRedistribution.so")
+    if not os.path.exists(plugin):
+        fail("the plugin %s does not exist (build it, or give --plugin)" % plugin)
+    LoadPlugin(plugin, remote=False, ns=globals())
+    AdaptToShocks = globals()["AdaptToShocks"]
+    os.makedirs(target, exist_ok=True)
+    report = ["# adapt_case.py report", "",
+              "source `%s`, %d cycle(s), %s" % (source, args.cycles,
+                                                 "solved on %d rank(s)" % args.np if args.solve else "not solved"), ""]
+
+    def write_report():
+        with open(os.path.join(target, "report.md"), "w") as f:
+            f.write("\n".join(report) + "\n")
+
+    current = source
+    for k in range(1, args.cycles + 1):
+        case = os.path.join(target, "cycle%d" % k)
+        time_name = latest_time(current)
+        report += ["## Cycle %d" % k, "", "adapted `%s` at time %s" % (current, time_name), ""]
+        reader = OpenFOAMReader(FileName=os.path.join(current, "adapt_case.foam"))
+        reader.MeshRegions = ["internalMesh"] + [r for r in reader.MeshRegions.Available if r.startswith("patch/")]
+        reader.CellArrays = reader.CellArrays.Available
+        reader.UpdatePipeline(float(time_name))
+        before = volume_of(servermanager.Fetch(reader))
+        if before is None:
+            report.append("**failed**: the OpenFOAM reader found no 3-D cells")
+            write_report()
+            fail("the OpenFOAM reader found no 3-D cells in %s" % current)
+        adapt = AdaptToShocks(Input=reader)
+        for prop, value in config.get("AdaptToShocks", {}).items():
+            try:
+                setattr(adapt, prop, value)
+            except AttributeError:
+                fail("AdaptToShocks has no property %s (config)" % prop)
+        t = time.time()
+        adapt.UpdatePipeline(float(time_name))
+        seconds = time.time() - t
+        out = servermanager.Fetch(adapt)
+        after = volume_of(out)
+        if after is None or after.GetCellData().GetArray("Region") is None:
+            report.append("**failed**: AdaptToShocks did not adapt the mesh (see its error above)")
+            write_report()
+            fail("AdaptToShocks did not adapt %s (its message is above)" % current)
+        SaveData(os.path.join(case, "cycle%d.foam" % k), proxy=adapt, SourceCase=current, SourceTime=time_name,
+                 StartTime="0")
+        if not os.path.isfile(os.path.join(case, "constant", "polyMesh", "owner")):
+            report.append("**failed**: the case writer wrote nothing (its error is above)")
+            write_report()
+            fail("the OpenFOAM case writer failed on %s (its message is above)" % case)
+        # controlDict: start at 0 and a first step for the new smallest cell.
+        cd_path = os.path.join(case, "system", "controlDict")
+        with open(cd_path) as f:
+            cd = f.read()
+        h0, two_d = cell_scale(before)
+        h1, _ = cell_scale(after)
+        dt0 = float(dict_entry(cd, "deltaT") or "nan")
+        dt1 = dt0 * min(1.0, h1 / h0)
+        cd = set_entry(set_entry(set_entry(cd, "startFrom", "startTime"), "startTime", "0"), "deltaT", "%.6g" % dt1)
+        for key, value in config.get("controlDict", {}).items():
+            cd = set_entry(cd, key, value)
+        with open(cd_path, "w") as f:
+            f.write(cd)
+        fd = lambda n: field(out, n) or field(after, n)
+        templates = fd("SurfaceTemplates") or []
+        report += ["| | before | after |", "|---|---:|---:|",
+                   "| nodes | %d | %d |" % (before.GetNumberOfPoints(), after.GetNumberOfPoints()),
+                   "| cells | %d | %d |" % (before.GetNumberOfCells(), after.GetNumberOfCells())]
+        types0, types1 = cell_types(before), cell_types(after)
+        for name in sorted(set(types0) | set(types1)):
+            report.append("| %s | %d | %d |" % (name, types0.get(name, 0), types1.get(name, 0)))
+        report += ["| smallest cell size (%s) | %.3g | %.3g |" % ("sqrt of area" if two_d else "V^(1/3)", h0, h1),
+                   "| deltaT | %.3g | %.3g |" % (dt0, dt1), ""]
+        report.append("AdaptToShocks in %.1f s: %d surface(s) (%s); new cells at the shock %.2f of the input's size "
+                      "(SurfaceSizeRatio)" % (seconds, len(templates), ", ".join(templates),
+                                              (fd("SurfaceSizeRatio") or [float("nan")])[0]))
+        hist = angle_histogram(after)
+        if hist:
+            edges, counts, worst = hist
+            report += ["", "smallest dihedral angle of the new cells (degrees; min %.1f):" % worst, "",
+                       "| " + " | ".join("%d-%d" % (a, b) for a, b in zip(edges[:-1], edges[1:])) + " |",
+                       "|" + "---:|" * len(counts), "| " + " | ".join(str(int(c)) for c in counts) + " |"]
+        report.append("")
+        write_report()
+        for p in (reader, adapt):
+            Delete(p)
+        if args.solve:
+            app = dict_entry(cd, "application")
+            if not app:
+                fail("%s has no application entry" % cd_path)
+            steps = [(app, app)]
+            if args.np > 1:
+                # Debian's OpenFOAM has no scotch (a dummy library): "simple"
+                # cuts the mesh into K slabs along its longest side.
+                P = np.array(after.GetPoints().GetBounds()).reshape(3, 2)
+                n = ["1", "1", "1"]
+                n[int(np.argmax(P[:, 1] - P[:, 0]))] = str(args.np)
+                with open(os.path.join(case, "system", "decomposeParDict"), "w") as f:
+                    f.write("FoamFile { version 2.0; format ascii; class dictionary; object decomposeParDict; }\n"
+                            "numberOfSubdomains %d;\nmethod simple;\nsimpleCoeffs { n (%s); delta 0.001; }\n"
+                            % (args.np, " ".join(n)))
+                steps = [("decomposePar -force", "decomposePar"),
+                         ("mpirun --allow-run-as-root -np %d %s -parallel" % (args.np, app), app),
+                         ("reconstructPar -latestTime", "reconstructPar")]
+            total = 0.0
+            for cmd, name in steps:
+                rc, secs = foam(cmd, case, os.path.join(case, "log." + name))
+                total += secs
+                report.append("%s: exit %d in %.1f s (log `cycle%d/log.%s`)" % (name, rc, secs, k, name))
+                if rc != 0:
+                    report.append("")
+                    write_report()
+                    fail("%s failed on %s (exit %d; see %s)" % (name, case, rc, os.path.join(case, "log." + name)))
+            report += ["", "solved in %.1f s in all, latest time %s" % (total, latest_time(case)), ""]
+            write_report()
+            current = case
+    write_report()
+    print("adapt_case.py: %d cycle(s) in %s; report %s" % (args.cycles, target, os.path.join(target, "report.md")))
+
+
+main()

@@ -1,0 +1,143 @@
+"""Plugin/Scripts/adapt_case.py, the adapt-solve loop on an OpenFOAM case, as
+a user runs it (pvbatch, a child process). The source is a real steady
+solution made here: the first-order Mach 3 wedge of the validation matrix
+(Data/make_validation_case.py wedge10Ma3o1 --keep: blockMesh, rhoCentralFoam,
+~30 s), one cell deep. Asserts:
+- write only: exit 0; the case checkMesh calls "Mesh OK"; its patches have
+  the source's names and types; p, U and T are at time 0; controlDict starts
+  at 0 with deltaT = the source's x (smallest cell after / before, at most 1),
+  recomputed here from the two meshes; report.md has the cycle's node counts;
+- two cycles solved on two MPI ranks (decomposePar, mpirun, reconstructPar)
+  to a bounded endTime (the config's controlDict entries): exit 0; each
+  cycle's latest time is that endTime; cycle 2 adapted cycle 1's solution
+  (more nodes); cycle 2's solution reads back in ParaView with finite,
+  positive p and T on every cell;
+- bad input, each exit 1 with a message naming it and no case written: a
+  source that is no case, a target that is not empty, two cycles without
+  --solve, a config naming a property AdaptToShocks does not have.
+"""
+import json
+import os
+import re
+import shutil
+import subprocess
+
+import numpy as np
+from paraview.simple import *
+from paraview import servermanager
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+import artest
+from artest import check
+import foamcase
+
+root = os.path.join(artest.OUTPUT_DIR, "adapt_case")
+shutil.rmtree(root, ignore_errors=True)
+os.makedirs(root)
+source = os.path.join(root, "source")
+script_dir = os.path.join(os.path.dirname(os.environ["AR_DATA_DIR"]), "Plugin", "Scripts")
+rc, _ = artest.run([artest.require_program("python3", "python3"),
+                    os.path.join(os.environ["AR_DATA_DIR"], "make_validation_case.py"), "wedge10Ma3o1",
+                    os.path.join(root, "source.vtu"), "--keep", source])
+check(rc == 0 and os.path.isdir(source), "the source case was made and solved (exit %d)" % rc)
+pvbatch = artest.require_program("pvbatch", "paraview")
+
+
+def adapt_case(*args):
+    cmd = [pvbatch, os.path.join(script_dir, "adapt_case.py")] + list(args) + ["--plugin", os.environ["AR_PLUGIN"]]
+    return artest.run(cmd)
+
+
+def patches(case):
+    """{name: type} of constant/polyMesh/boundary."""
+    text = open(os.path.join(case, "constant", "polyMesh", "boundary")).read()
+    return {m.group(1): m.group(2) for m in re.finditer(r"^\s*(\w+)\s*\{[^}]*?\btype\s+(\w+);", text, re.M | re.S)}
+
+
+def check_mesh(case):
+    out = subprocess.run(["bash", "-c", "source %s >/dev/null 2>&1; checkMesh -case %s" % (foamcase.bashrc("checkMesh"), case)],
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=artest.child_environment())
+    return "Mesh OK." in out.stdout
+
+
+def read_case(case, time=None):
+    r = OpenFOAMReader(FileName=os.path.join(case, "read.foam"))
+    r.MeshRegions = ["internalMesh"]
+    r.CellArrays = r.CellArrays.Available
+    r.UpdatePipeline(max(r.TimestepValues) if time is None else time)
+    d = servermanager.Fetch(r).GetBlock(0)
+    Delete(r)
+    return d
+
+
+def smallest(grid):
+    from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
+    f = vtkCellSizeFilter()
+    f.SetInputData(grid)
+    f.Update()
+    v = vtk_to_numpy(f.GetOutput().GetCellData().GetArray("Volume"))
+    P = vtk_to_numpy(grid.GetPoints().GetData())
+    return np.sqrt(v.min() / np.ptp(P[:, 2]))  # one cell deep in z
+
+
+# ---- Write only.
+t1 = os.path.join(root, "written")
+rc, text = adapt_case(source, t1)
+case1 = os.path.join(t1, "cycle1")
+check(rc == 0 and check_mesh(case1), "write only: exit %d, checkMesh says 'Mesh OK.'" % rc)
+check(patches(case1) == patches(source) and len(patches(source)) == 6,
+      "write only: the patches' names and types are the source's (%s)" % patches(case1))
+check(all(os.path.isfile(os.path.join(case1, "0", n)) for n in ("p", "U", "T")), "write only: p, U, T at time 0")
+cd0 = open(os.path.join(source, "system", "controlDict")).read()
+cd1 = open(os.path.join(case1, "system", "controlDict")).read()
+entry = lambda text, key: re.search(r"^\s*%s\s+([^;]+);" % key, text, re.M).group(1).strip()
+h0, h1 = smallest(read_case(source)), smallest(read_case(case1, 0.0))
+expected = float(entry(cd0, "deltaT")) * min(1.0, h1 / h0)
+check(entry(cd1, "startFrom") == "startTime" and float(entry(cd1, "startTime")) == 0.0
+      and abs(float(entry(cd1, "deltaT")) / expected - 1) < 1e-5,
+      "write only: controlDict starts at 0, deltaT %s = %s x %.3f (smallest cell %.2e -> %.2e)"
+      % (entry(cd1, "deltaT"), entry(cd0, "deltaT"), h1 / h0, h0, h1))
+report = open(os.path.join(t1, "report.md")).read()
+check("## Cycle 1" in report and "| nodes | 14342 |" in report, "write only: report.md holds the cycle and its nodes")
+
+# ---- Two cycles, solved on two ranks, to a bounded end time.
+end = 0.0005
+config = os.path.join(root, "config.json")
+with open(config, "w") as f:
+    json.dump({"controlDict": {"endTime": end, "writeInterval": end}}, f)
+t2 = os.path.join(root, "cycles")
+rc, text = adapt_case(source, t2, "--solve", "--cycles", "2", "--np", "2", "--config", config)
+check(rc == 0, "two cycles on two ranks: exit %d" % rc)
+times = [max((float(d) for d in os.listdir(os.path.join(t2, c)) if re.fullmatch(r"[0-9.e+-]+", d)), default=-1)
+         for c in ("cycle1", "cycle2")]
+check(all(abs(t - end) < 1e-12 for t in times), "both cycles ran to endTime %g (latest times %s)" % (end, times))
+report = open(os.path.join(t2, "report.md")).read()
+check("adapted `%s`" % os.path.join(t2, "cycle1") in report and report.count("rhoCentralFoam: exit 0") == 2,
+      "cycle 2 adapted cycle 1's solution; the report has both solver runs")
+g1, g2 = read_case(os.path.join(t2, "cycle1"), 0.0), read_case(os.path.join(t2, "cycle2"))
+p2 = vtk_to_numpy(g2.GetCellData().GetArray("p"))
+T2 = vtk_to_numpy(g2.GetCellData().GetArray("T"))
+check(g2.GetNumberOfPoints() > g1.GetNumberOfPoints() and np.isfinite(p2).all() and p2.min() > 0 and T2.min() > 0,
+      "cycle 2's solution reads back: %d nodes (cycle 1: %d), p in [%.3f, %.3f], T > 0 on all %d cells"
+      % (g2.GetNumberOfPoints(), g1.GetNumberOfPoints(), p2.min(), p2.max(), len(p2)))
+
+
+# ---- Bad input.
+def refused(args, fragment, label):
+    target = args[1]
+    rc, text = adapt_case(*args)
+    check(rc == 1 and fragment in text and not os.path.exists(os.path.join(target, "cycle1", "constant")),
+          "%s: exit %d, '%s', nothing written" % (label, rc, fragment))
+
+
+refused([os.path.join(source, "system"), os.path.join(root, "bad1")], "is not an OpenFOAM case", "no case")
+busy = os.path.join(root, "busy")
+os.makedirs(busy)
+open(os.path.join(busy, "notes.txt"), "w").write("a user's file\n")
+refused([source, busy], "is not empty", "a target that is not empty")
+check(os.listdir(busy) == ["notes.txt"], "a target that is not empty: left as it was")
+refused([source, os.path.join(root, "bad3"), "--cycles", "2"], "needs --solve", "two cycles without --solve")
+with open(config, "w") as f:
+    json.dump({"AdaptToShocks": {"NoSuchProperty": 1}}, f)
+refused([source, os.path.join(root, "bad4"), "--config", config], "no property NoSuchProperty", "a wrong property")
+artest.finish()

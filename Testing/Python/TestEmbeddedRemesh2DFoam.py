@@ -41,22 +41,9 @@ def foam(command):
 reader = XMLUnstructuredGridReader(FileName=[artest.data("wedge15Ma5.vtu")])
 
 
-def wedge_patches(centre, b):
-    names = np.full(len(centre), "obstacle", dtype=object)
-    names[np.abs(centre[:, 1] - b[3]) < 1e-7] = "top"
-    names[np.abs(centre[:, 0] - b[0]) < 1e-7] = "inlet"
-    names[np.abs(centre[:, 0] - b[1]) < 1e-7] = "outlet"
-    names[(np.abs(centre[:, 2] - b[4]) < 1e-9) | (np.abs(centre[:, 2] - b[5]) < 1e-9)] = "frontAndBack"
-    return names
-
-
-patches = ["inlet", "outlet", "top", "obstacle", "frontAndBack"]
-mb, names = artest.openfoam_multiblock(artest.fetch(reader).VTKObject, wedge_patches, patches)
-source = PVTrivialProducer()
-source.GetClientSideObject().SetOutput(mb)
-weight = WeightFunction(Input=reader, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
-clusters = FeatureCluster(Input=weight, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
-fit = QuadricFit(Input=OutputPort(clusters, 1), Domain=reader, Template="Plane", ClusterId=0)
+source, names = artest.wedge_multiblock(reader)
+patches = artest.WEDGE_PATCHES
+fit = artest.wedge_shock_plane(reader)
 adapted = EmbeddedRemesh(Input=source, Surfaces=[fit])
 adapted.UpdatePipeline()
 out = servermanager.Fetch(adapted)

@@ -148,22 +148,9 @@ check_fields("hybrid", case, hdata)
 wedge = XMLUnstructuredGridReader(FileName=[artest.data("wedge15Ma5.vtu")])
 
 
-def wedge_patches(centre, b):
-    names = np.full(len(centre), "obstacle", dtype=object)
-    names[np.abs(centre[:, 1] - b[3]) < 1e-7] = "top"
-    names[np.abs(centre[:, 0] - b[0]) < 1e-7] = "inlet"
-    names[np.abs(centre[:, 0] - b[1]) < 1e-7] = "outlet"
-    names[(np.abs(centre[:, 2] - b[4]) < 1e-9) | (np.abs(centre[:, 2] - b[5]) < 1e-9)] = "frontAndBack"
-    return names
-
-
-PATCHES = ["inlet", "outlet", "top", "obstacle", "frontAndBack"]
-mb, _ = artest.openfoam_multiblock(artest.fetch(wedge).VTKObject, wedge_patches, PATCHES)
-source = PVTrivialProducer()
-source.GetClientSideObject().SetOutput(mb)
-wweight = WeightFunction(Input=wedge, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
-wclusters = FeatureCluster(Input=wweight, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
-wfit = QuadricFit(Input=OutputPort(wclusters, 1), Domain=wedge, Template="Plane", ClusterId=0)
+PATCHES = artest.WEDGE_PATCHES
+source, _ = artest.wedge_multiblock(wedge)
+wfit = artest.wedge_shock_plane(wedge)
 adapted = EmbeddedRemesh(Input=source, Surfaces=[wfit])
 adata = servermanager.Fetch(adapted)
 _, counts = volume_grid(adata)

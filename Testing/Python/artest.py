@@ -510,3 +510,36 @@ def check_valid_mesh(label, source, output, embedded=None):
         on = [count1.get(coord_key(PS, conn[off[i]:off[i + 1]]), 0) for i in range(len(off) - 1)]
         check(all(c == 2 for c in on), "%s: all %d faces of the embedded surface are faces between two cells"
               % (label, len(on)))
+
+
+WEDGE_PATCHES = ["inlet", "outlet", "top", "obstacle", "frontAndBack"]
+
+
+def _wedge_patches(centre, b):
+    names = np.full(len(centre), "obstacle", dtype=object)
+    names[np.abs(centre[:, 1] - b[3]) < 1e-7] = "top"
+    names[np.abs(centre[:, 0] - b[0]) < 1e-7] = "inlet"
+    names[np.abs(centre[:, 0] - b[1]) < 1e-7] = "outlet"
+    names[(np.abs(centre[:, 2] - b[4]) < 1e-9) | (np.abs(centre[:, 2] - b[5]) < 1e-9)] = "frontAndBack"
+    return names
+
+
+def wedge_multiblock(reader):
+    """The bundled wedge (proxy `reader` of wedge15Ma5.vtu) as ParaView's
+    OpenFOAM reader gives it: internalMesh and the patches WEDGE_PATCHES
+    (classified by position). Returns (a PVTrivialProducer, the patch names)."""
+    from paraview.simple import PVTrivialProducer
+    mb, names = openfoam_multiblock(fetch(reader).VTKObject, _wedge_patches, WEDGE_PATCHES)
+    source = PVTrivialProducer()
+    source.GetClientSideObject().SetOutput(mb)
+    return source, names
+
+
+def wedge_shock_plane(reader):
+    """QuadricFit's plane on the bundled wedge's shock: WeightFunction (rho,
+    rhoU, rhoE) -> FeatureCluster on W 1.5-2 -> QuadricFit (Plane) of cluster 0."""
+    from paraview.simple import OutputPort
+    ns = _plugin[0]
+    weight = ns["WeightFunction"](Input=reader, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
+    clusters = ns["FeatureCluster"](Input=weight, SensorArray=["POINTS", "WeightFunction"], SensorRange=[1.5, 2.0])
+    return ns["QuadricFit"](Input=OutputPort(clusters, 1), Domain=reader, Template="Plane", ClusterId=0)

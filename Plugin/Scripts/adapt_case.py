@@ -37,11 +37,9 @@ Exit status 0 when every cycle was written (and solved, with --solve); 1 with
 a message naming the failure otherwise; the report holds what was done.
 """
 import argparse
-import glob
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
 import time

@@ -55,6 +55,19 @@ os.makedirs(args.output, exist_ok=True)
 summary = []
 
 
+def print_summary(header, summary, output):
+    """The run's table (rows: name, count, result) and the files written."""
+    print()
+    print(header)
+    print("|---|---|---|")
+    for row in summary:
+        print("| %s | %d | %s |" % row)
+    print()
+    print("Wrote to %s:" % output)
+    for f in sorted(os.listdir(output)):
+        print("  " + f)
+
+
 def region_colouring(annotations, colours):
     """A display set-up: edges, cells coloured by the categories of Region
     (annotations: value, label, ...; colours: r g b per category)."""
@@ -133,15 +146,7 @@ def adapt_inputs(paths):
                            value("SurfaceSizeRatio"), value("MinDihedralAngleNew") if value("TwoDimensional") == 0
                            else value("MinTriangleAngleNew"),
                            sum(value(n) for n in ("SecondsSensor", "SecondsClusters", "SecondsFit", "SecondsRemesh")))))
-    print()
-    print("| solution | surface triangles | result |")
-    print("|---|---|---|")
-    for row in summary:
-        print("| %s | %d | %s |" % row)
-    print()
-    print("Wrote to %s:" % args.output)
-    for f in sorted(os.listdir(args.output)):
-        print("  " + f)
+    print_summary("| solution | surface triangles | result |", summary, args.output)
     sys.exit(1 if failed else 0)
 
 
@@ -683,12 +688,4 @@ if os.path.exists(cone_path):
     fig.savefig(os.path.join(args.output, "cone20Ma2p5_dihedral_histogram_prisms.png"), dpi=110)
     plt.close(fig)
 
-print()
-print("| dataset | shock cells / medial points | check |")
-print("|---|---|---|")
-for row in summary:
-    print("| %s | %d | %s |" % row)
-print()
-print("Wrote to %s:" % args.output)
-for f in sorted(os.listdir(args.output)):
-    print("  " + f)
+print_summary("| dataset | shock cells / medial points | check |", summary, args.output)

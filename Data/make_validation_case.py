@@ -2,7 +2,7 @@
 """Make small steady rhoCentralFoam solutions for the validation matrix.
 
 Usage (from anywhere):
-    python3 Data/make_validation_case.py CASE_NAME OUTPUT.vtu [--keep DIR]
+    python3 Data/make_validation_case.py CASE_NAME OUTPUT.vtu [--keep DIR] [--refine F]
     python3 Data/make_validation_case.py --list
   CASE_NAME   one of the eight cases below
   OUTPUT.vtu  the zlib-compressed binary .vtu written (Data/foam_vtu.py)
@@ -10,6 +10,8 @@ Usage (from anywhere):
               be empty, or hold an earlier case of this script, which is then
               replaced); default: a temporary directory, removed at the end
               (a case that fails is always kept, its path is printed)
+  --refine F  refine the mesh uniformly by F: blockMesh cell counts x F,
+              Gmsh sizes / F (grading, geometry and solver settings kept)
   --list      the cases and their exact shock angles
 Needs: gmsh (4.8), Debian packages openfoam (v1912) and paraview /
 python3-paraview (pvpython 5.11).  The solver runs serially (one core, no
@@ -738,8 +740,29 @@ def prepare_dir(keep):
     return keep, True
 
 
-def make(name, out, keep_dir):
-    c = CASES[name]
+def refined(c, factor):
+    """The case with its mesh refined uniformly by `factor` (> 0; 1 is the
+    case itself): blockMesh cell counts times `factor` (rounded), Gmsh sizes
+    divided by it; the grading, the geometry and the solver settings stay.
+    The payoff benchmark (Testing/Benchmark/bench_payoff.py) uses it for the
+    uniform meshes that bracket an adapted mesh's node count."""
+    if not factor > 0:
+        raise ValueError("--refine must be positive (got %r)" % factor)
+    c = dict(c)
+    n = lambda k: max(1, int(round(k * factor)))
+    for key in ("ny", "n_normal", "n_along"):
+        if key in c:
+            c[key] = n(c[key])
+    if "nx" in c:
+        c["nx"] = tuple(n(k) for k in c["nx"])
+    for key in ("hmin", "hmax", "h0", "h1", "grow"):
+        if key in c:
+            c[key] = c[key] / factor
+    return c
+
+
+def make(name, out, keep_dir, refine=1.0):
+    c = refined(CASES[name], refine)
     for prog in ("pvpython",) + (("gmsh",) if c["mesher"].startswith("gmsh") else ()):
         if shutil.which(prog) is None:
             sys.exit("%s not found (apt-get install %s)" % (prog, {"pvpython": "paraview python3-paraview"}
@@ -1026,14 +1049,18 @@ def main(argv):
     ap.add_argument("output", nargs="?", metavar="OUTPUT.vtu")
     ap.add_argument("--keep", metavar="DIR", help="build and keep the OpenFOAM case in DIR")
     ap.add_argument("--list", action="store_true", help="list the cases and their theory values")
+    ap.add_argument("--refine", type=float, default=1.0, metavar="F",
+                    help="refine the mesh uniformly: cell counts x F, Gmsh sizes / F (default 1)")
     a = ap.parse_args(argv[1:])
+    if not a.refine > 0:
+        ap.error("--refine must be positive (got %g)" % a.refine)
     if a.list:
         for n, c in CASES.items():
             print("%-14s %s" % (n, theory(c)[2]))
         return 0
     if a.case is None or a.output is None:
         ap.error("CASE_NAME and OUTPUT.vtu are required")
-    return make(a.case, os.path.abspath(a.output), a.keep)
+    return make(a.case, os.path.abspath(a.output), a.keep, a.refine)
 
 
 if __name__ == "__main__":

@@ -338,7 +338,15 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
   BoundaryTree tree(boundary.begin(), boundary.end());
   tree.accelerate_distance_queries();
 
-  // ---- Trim the curves: inside V and at least BoundaryMargin * l_c from its boundary.
+  // ---- Trim the curves: inside V and at least BoundaryMargin * max(l_c, l_b)
+  // from its boundary, l_b the length of the nearest boundary edge (the kept
+  // mesh's size there, capped by V's longest edge), as the 3-D cavity does.
+  // With the curve finer than V next to the boundary (a second cycle: the
+  // first refined the cells at the curve but kept the long wall edges) a gap
+  // of BoundaryMargin curve edges against a wall edge five times longer left
+  // the refill only fans of needles there (1 degree), since no boundary edge
+  // may be split.
+  const double lvMax = *std::max_element(lv.begin(), lv.end());
   std::vector<char> usable(nCurvePoints, 0);
   std::size_t inside = 0;
   for (std::size_t i = 0; i < nCurvePoints; ++i)
@@ -349,8 +357,10 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       continue;
     }
     ++inside;
-    const double d = std::sqrt(CGAL::to_double(tree.squared_distance(Point3(x[0], x[1], 0.0))));
-    usable[i] = d >= options.BoundaryMargin * lc[i];
+    const auto hit = tree.closest_point_and_primitive(Point3(x[0], x[1], 0.0));
+    const double lb = std::min(lvMax, std::sqrt(CGAL::to_double(hit.second->squared_length())));
+    const double d = std::sqrt(CGAL::to_double(CGAL::squared_distance(Point3(x[0], x[1], 0.0), hit.first)));
+    usable[i] = d >= options.BoundaryMargin * std::max(lc[i], lb);
   }
   if (inside == 0)
   {

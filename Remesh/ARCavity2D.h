@@ -17,7 +17,8 @@
  * shares with kept cells and its edges on V's boundary) is kept exactly: the
  * nodes on it stay and its edges are never split, so the kept cells and the
  * domain boundary do not change. The curves are trimmed back: a curve node
- * outside V or closer than BoundaryMargin * l_ci to V's boundary is dropped
+ * outside V or closer than BoundaryMargin * max(l_ci, l_b) to V's boundary (l_b
+ * the nearest boundary edge) is dropped
  * with its segments, so no boundary edge is cut.
  *
  * The refill: CGAL's Constrained_Delaunay_triangulation_2 of the cavity
@@ -64,7 +65,7 @@ struct Cavity2DOptions
 {
   double RemovalFactor = 3.0;  ///< radius of removal in max(l_ci, l_vj)
   bool VisibilityTest = true;  ///< a boundary edge between C_i and V_j keeps V_j
-  double BoundaryMargin = 1.0; ///< curves trimmed this many l_ci away from V's boundary
+  double BoundaryMargin = 1.0; ///< curves trimmed this many max(l_ci, l_b) away from V's boundary
   double MinAngle = 25.0;      ///< degrees: the refinement's bound on the new triangles' angles
   /// A new triangle is refined when its longest edge exceeds SizeRatio times
   /// the size field at its centroid.

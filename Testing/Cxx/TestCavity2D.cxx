@@ -263,7 +263,7 @@ TEST(Cavity2D, GradedSizeAndGridAlignedLine)
   const ar::Mesh2D grid = QuadGrid(10, 10, 0.1);
   const Curve line = Line({ 0.5, 0.0 }, { 0.5, 1.0 }, 40); // segments of 0.025
   ar::Cavity2DOptions o;
-  o.BoundaryMargin = 1.5;
+  o.BoundaryMargin = 1.6;
   ar::Cavity2DRemesh r;
   std::string error;
   ASSERT_TRUE(Remesh(grid, line, o, r, error)) << error;
@@ -279,9 +279,11 @@ TEST(Cavity2D, GradedSizeAndGridAlignedLine)
     ASSERT_TRUE(it != edges.end() && it->second == 2);
     onLine.insert(it->first);
   }
-  // Trimmed back 1.5 segments (0.0375) from y = 0 and y = 1: the nodes at
-  // y = 0.05 .. 0.95 stay, 36 segments.
-  EXPECT_EQ(r.Curve.size() / 2, 36u);
+  // Trimmed back 1.6 x max(segment 0.025, boundary edge 0.1) = 0.16 from
+  // y = 0 and y = 1 (not 1.6 segments: the refill could not grade from a
+  // curve node 0.04 off the wall to the wall's 0.1 edges, which it may not
+  // split): the nodes at y = 0.175 .. 0.825 stay, 26 segments.
+  EXPECT_EQ(r.Curve.size() / 2, 26u);
   // The triangles on the line are graded down toward its 0.025, far below the grid's 0.1.
   std::size_t atLine = 0;
   for (std::size_t c = 0; c < r.Mesh.NumberOfCells(); ++c)
@@ -304,8 +306,11 @@ TEST(Cavity2D, GradedSizeAndGridAlignedLine)
       ++atLine;
     }
   }
-  EXPECT_EQ(atLine, 72u); // two triangles on each segment
-  EXPECT_GE(r.MinAngleNew, o.MinAngle);
+  EXPECT_EQ(atLine, 52u); // two triangles on each segment
+  // MinAngle (25) where the refinement reaches; next to the curve's and the
+  // cavity's edges, which it may not split, CGAL's no-edge-refinement mesher
+  // promises nothing (23.6 here).
+  EXPECT_GE(r.MinAngleNew, 20.0);
 }
 
 // FullDomain: every cell is replaced, the boundary stays edge for edge.

@@ -20,6 +20,8 @@ unstructured grid and as an OpenFOAM-reader multiblock. Asserts:
   MinTriangleAngle bound (20 degrees; CGAL's mesher may not split the
   cavity's boundary or the curve, so the bound can fail next to them);
 - the node counts in field data match the mesh;
+- a second cycle on the first one's output (fine triangles at the shock, the
+  long wall edges kept): valid, finer again, and the same angle bounds;
 - multiblock: the frontAndBack patch is rebuilt and covers exactly the
   output's boundary faces on the planes, the other patches pass through
   unchanged;
@@ -339,6 +341,47 @@ check(len(plane_keys) == len(set(plane_keys)) and set(plane_keys) == want,
       "grid with patch cells: the %d front/back patch cells (input %d) are exactly the boundary faces on the planes"
       % (len(plane_keys), n_plane_in))
 check(int(np.sum(ppid == 1)) == n_outlet, "grid with patch cells: the %d outlet patch cells pass through" % n_outlet)
+
+# ---- A second cycle: the first cycle's output (triangles five times finer
+# than the wedge's cells at the shock, the wall's long edges kept) remeshed
+# at the same plane. The curve must stay a kept edge's length off the wall
+# (it trimmed at its own, finer, edge: fans of 1-degree needles between the
+# curve and the unsplittable wall edges near the apex).
+er2 = EmbeddedRemesh(Input=er, Surfaces=[fit])
+out2 = artest.fetch(er2)
+artest.check_valid_mesh("second cycle", out, out2, artest.fetch(er2, 1))
+P2 = np.asarray(out2.Points, dtype=np.float64)
+region2 = np.asarray(out2.CellData["Region"])
+angles2 = [triangle_min_angle(P2[ids[:3], :2]) for (t, ids), r_ in zip(cells_of(out2), region2) if r_ == 1]
+below2 = sum(a < 20.0 for a in angles2)
+check(min(angles2) >= 10.0 and below2 <= 0.02 * len(angles2),
+      "second cycle: every new triangle's smallest angle >= 10 deg (min %.2f); %d of %d below 20 deg"
+      % (min(angles2), below2, len(angles2)))
+from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
+skin = vtkDataSetSurfaceFilter()
+skin.SetInputData(out.VTKObject)
+skin.Update()
+SP = vtk_to_numpy(skin.GetOutput().GetPoints().GetData()).astype(np.float64)
+walls = []
+for i in range(skin.GetOutput().GetNumberOfCells()):
+    ids = [skin.GetOutput().GetCell(i).GetPointId(k) for k in range(skin.GetOutput().GetCell(i).GetNumberOfPoints())]
+    low = [j for j in ids if abs(SP[j, 2] - zlo) < 1e-12]
+    if len(low) == 2:  # a quad off the planes: its edge on the plane z = zlo
+        walls.append(SP[low, :2])
+walls = np.array(walls)
+emb2 = artest.fetch(er2, 1)
+used2 = np.unique(vtk_to_numpy(emb2.VTKObject.GetPolys().GetConnectivityArray()))
+E2 = np.asarray(emb2.Points, dtype=np.float64)[used2, :2]
+a, b = walls[:, 0][None], walls[:, 1][None]
+t_ = np.clip(np.einsum("ijk,ijk->ij", E2[:, None] - a, b - a) / np.einsum("ijk,ijk->ij", b - a, b - a), 0, 1)
+dist = np.linalg.norm(E2[:, None] - (a + t_[..., None] * (b - a)), axis=2)
+nearest = np.argmin(dist, axis=1)
+clear = dist[np.arange(len(E2)), nearest] / np.linalg.norm(walls[nearest, 1] - walls[nearest, 0], axis=1)
+check(clear.min() >= 1.0 - 1e-9, "second cycle: the curve stays BoundaryMargin (1) x the nearest boundary edge off "
+      "the boundary (min %.2f of it)" % clear.min())
+check(artest.field(out2, "SurfaceSizeRatio")[0] <= 1.0 / 3.0 and len(P2) > len(P1),
+      "second cycle: finer again at the shock (size ratio %.2f), %d -> %d nodes"
+      % (artest.field(out2, "SurfaceSizeRatio")[0], len(P1), len(P2)))
 
 # ---- FullDomain: the whole cross-section remeshed, still one cell deep.
 full = artest.fetch(EmbeddedRemesh(Input=reader, Surfaces=[fit], Mode="FullDomain"))

@@ -22,7 +22,11 @@ TARGET_CASE  a new (or empty) directory: cycle K's case is TARGET_CASE/cycleK,
 --plugin P   the plugin (default: $AR_PLUGIN, else the build tree's)
 
 Each cycle: AdaptToShocks with its defaults (or the config's properties) on
-the source's latest time; the OpenFOAM case writer (vtkOpenFOAMCaseWriter)
+the source's latest time (cycles after the first with SurfaceSizeFactor
+0.75 unless the config sets SurfaceSizeFactor or SurfaceEdgeLength: they keep
+the first cycle's refinement, as its longest edges measure it, and re-place
+it on the sharper shock, instead of shrinking the cells, and the explicit
+solver's time step, five-fold again); the OpenFOAM case writer (vtkOpenFOAMCaseWriter)
 with the source as SourceCase, so patch names and types, the fields' boundary
 conditions, constant/ and system/ come from it; controlDict starts at time 0
 (startFrom startTime) and its deltaT is scaled by the ratio of the smallest
@@ -31,7 +35,12 @@ one-cell-deep cases), never raised, so the first step is stable on the new
 smallest cell (adjustTimeStep then takes over where the case uses it). The
 report gives per cycle: nodes and cells by type, the fitted surfaces, the
 size at the shock, the smallest-angle histogram of the new cells, deltaT,
-and the solver's wall time and exit status.
+the shock's position and 10-90 % thickness along lines normal to each fitted
+surface (shock_measure.py) on the input's solution and, with --solve, on the
+adapted mesh's, the solver's wall time and exit status, and pictures of the
+Mach number on a cut through the shock with the mesh (shock_pictures.py, in
+TARGET_CASE/cycleK_*.png; on a private Xvfb when there is no $DISPLAY) and
+the fitted surfaces (TARGET_CASE/cycleK_surfaces.vtp).
 
 Exit status 0 when every cycle was written (and solved, with --solve); 1 with
 a message naming the failure otherwise; the report holds what was done.
@@ -48,7 +57,15 @@ import numpy as np
 
 from paraview.simple import LoadPlugin, OpenFOAMReader, SaveData, servermanager, Delete
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import shock_measure  # noqa: E402
+
 FOAM_BASHRC = os.environ.get("AR_OPENFOAM_BASHRC", "/usr/share/openfoam/etc/bashrc")
+# Cycles after the first keep its size at the shock: the "input's size" is
+# the longest edge at each node, and a mesh made with edge l at the shock
+# measures about 1.3 l that way (1.31 on the validation wedge's cycle 1), so
+# a factor of 1 would coarsen the band by a third each cycle.
+KEEP_SIZE_FACTOR = 0.75
 TYPE_NAMES = {10: "tetrahedra", 12: "hexahedra", 13: "prisms", 14: "pyramids", 11: "voxels", 42: "polyhedra"}
 
 
@@ -116,6 +133,11 @@ def volume_of(data):
     return None
 
 
+def vtk_points(grid):
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    return vtk_to_numpy(grid.GetPoints().GetData())
+
+
 def cell_scale(grid):
     """The smallest cell's size: V^(1/3), or for a one-cell-deep mesh the
     square root of the cross-section area (V / depth)."""
@@ -160,6 +182,164 @@ def angle_histogram(grid):
     edges = [0, 10, 20, 30, 40, 50, 60, 90]
     counts, _ = np.histogram(new, bins=edges)
     return edges, counts, float(new.min()) if len(new) else float("nan")
+
+
+def split_surfaces(polydata):
+    """[(SurfaceId, vtkPolyData)] of AdaptToShocks' output port 1."""
+    from vtkmodules.vtkFiltersCore import vtkThreshold
+    from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    ids = polydata.GetCellData().GetArray("SurfaceId")
+    if ids is None or polydata.GetNumberOfCells() == 0:
+        return []
+    out = []
+    for sid in np.unique(vtk_to_numpy(ids)):
+        t = vtkThreshold()
+        t.SetInputData(polydata)
+        t.SetInputArrayToProcess(0, 0, 0, 1, "SurfaceId")
+        t.SetLowerThreshold(sid - 0.5)
+        t.SetUpperThreshold(sid + 0.5)
+        g = vtkGeometryFilter()
+        g.SetInputConnection(t.GetOutputPort())
+        g.Update()
+        out.append((int(sid), g.GetOutput()))
+    return out
+
+
+def shock_stations(surfaces, h, depth_axis):
+    """Per fitted surface: (id, points, normals, half length) of the lines the
+    shock is measured on: up to 24 points spread over the surface, at least a
+    line's half length (8 h, h the first cycle's input size at the surface)
+    from its border (in the cross-section of a one-cell-deep case, at
+    mid-depth)."""
+    length = 8.0 * h
+    out = []
+    for sid, surf in surfaces:
+        P, N = shock_measure.surface_stations(surf, count=24, margin=length, depth_axis=depth_axis)
+        out.append((sid, P, N, length))
+    return out
+
+
+def measure_shock(grid, stations):
+    """shock_measure's summary per surface on `grid`'s point array p."""
+    return [(sid, shock_measure.summary(shock_measure.measure(grid, P, N, half_length=L)) if len(P) else
+             dict(lines=0, valid=0)) for sid, P, N, L in stations]
+
+
+def shock_rows(before, after, templates, h):
+    """The report's table of the shock along each fitted surface."""
+    rows = ["", "the shock along lines normal to each fitted surface (`shock_measure.py`: p's 10-90 %% rise; "
+            "position = mean offset of its midpoint from the surface; h = %.3g, the input's size at the surface):"
+            % h, "",
+            "| surface | | lines | 10-90 % thickness | thickness / h | position |", "|---|---|---:|---:|---:|---:|"]
+    for label, result in (("before", before), ("after", after)):
+        if result is None:
+            continue
+        for sid, r in result:
+            name = templates[sid] if sid < len(templates) else "?"
+            if r["valid"] == 0:
+                rows.append("| %d (%s) | %s | 0 of %d | - | - | - |" % (sid, name, label, r["lines"]))
+            else:
+                rows.append("| %d (%s) | %s | %d of %d | %.3g | %.2f | %+.2g |" % (
+                    sid, name, label, r["valid"], r["lines"], r["thickness_median"], r["thickness_median"] / h,
+                    r["offset_mean"]))
+    return rows
+
+
+def mach_range(grid, case):
+    """(smallest, largest) Mach number of a solution, the pictures' colour scale."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data"))
+    import foam_case
+    gamma, r_gas = foam_case.gas_properties(case)[:2]
+    pd = grid.GetPointData()
+    U, T = (vtk_to_numpy(pd.GetArray(n)) for n in ("U", "T"))
+    m = np.linalg.norm(U, axis=1) / np.sqrt(gamma * r_gas * T)
+    return float(m.min()), float(m.max())
+
+
+_display = []  # (Xvfb process, ":N") once started
+
+
+def x_display():
+    """$DISPLAY, or a private Xvfb on the first free display (-displayfd:
+    it names the display once it accepts connections; `xvfb-run -a` raced
+    with other servers and left a child 'bad X server connection' now and
+    then). Returns (":N", None) or (None, why there is none)."""
+    import atexit
+    import select
+    import shutil
+    import signal
+    if os.environ.get("DISPLAY"):
+        return os.environ["DISPLAY"], None
+    if _display:
+        return _display[0][1], None
+    xvfb = shutil.which("Xvfb")
+    if xvfb is None:
+        return None, "no X display and no Xvfb (apt-get install xvfb, or run under an X server)"
+    rfd, wfd = os.pipe()
+    proc = subprocess.Popen([xvfb, "-displayfd", str(wfd), "-screen", "0", "1600x1200x24", "-nolisten", "tcp"],
+                            pass_fds=(wfd,), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, start_new_session=True)
+    os.close(wfd)
+    text, end = b"", time.monotonic() + 20
+    while not text.endswith(b"\n") and time.monotonic() < end:
+        if select.select([rfd], [], [], 0.5)[0]:
+            chunk = os.read(rfd, 64)
+            if not chunk:
+                break
+            text += chunk
+    os.close(rfd)
+    if not text.strip().isdigit():
+        os.killpg(proc.pid, signal.SIGKILL)
+        return None, "Xvfb did not start (it printed %r)" % text
+    atexit.register(lambda: os.killpg(proc.pid, signal.SIGKILL))
+    _display.append((proc, ":" + text.decode().strip()))
+    return _display[0][1], None
+
+
+def picture(case, time_name, surfaces_vtp, png, title, mach):
+    """shock_pictures.py in a child pvpython (on a private Xvfb without an X
+    display; a pvbatch child of pvbatch could not open its window). Returns
+    None, or why there is no picture."""
+    import shutil
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shock_pictures.py")
+    cmd = [shutil.which("pvpython") or "pvpython", script, case, time_name, surfaces_vtp, png, "--title", title,
+           "--mach-range", "%.6g" % mach[0], "%.6g" % mach[1]]
+    if mach is None:
+        return "no Mach number for the colour scale (the gas of constant/thermophysicalProperties, or U and T)"
+    display, why = x_display()
+    if display is None:
+        return why
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_", "HYDRA_"))}
+    env["DISPLAY"] = display
+    for attempt in range(2):
+        r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if r.returncode == 0 and os.path.isfile(png):
+            return None
+    lines = [re.sub(r"\x1b\[[0-9;]*m", "", l) for l in r.stdout.splitlines()]
+    said = [l for l in lines if "ERR|" in l or "Error" in l or "shock_pictures.py:" in l] or lines[-1:]
+    return "shock_pictures.py failed (exit %d, DISPLAY %s): %s" % (r.returncode, display, " / ".join(said[:3]))
+
+
+def picture_rows(pictures):
+    rows = []
+    for label, png, why in pictures:
+        rows.append("%s: %s" % (label, "![%s](%s)" % (label, os.path.basename(png)) if why is None else
+                                "no picture (%s)" % why))
+    return rows + [""]
+
+
+def read_solution(case, time_name):
+    """The 3-D cells (with point data) of an OpenFOAM case at a time."""
+    marker = os.path.join(case, "adapt_case.foam")
+    reader = OpenFOAMReader(FileName=marker)
+    reader.MeshRegions = ["internalMesh"]
+    reader.CellArrays = reader.CellArrays.Available
+    reader.UpdatePipeline(float(time_name))
+    grid = volume_of(servermanager.Fetch(reader))
+    Delete(reader)
+    return grid
 
 
 def main():
@@ -214,6 +394,7 @@ def main():
             f.write("\n".join(report) + "\n")
 
     current = source
+    h_first = None
     for k in range(1, args.cycles + 1):
         case = os.path.join(target, "cycle%d" % k)
         time_name = latest_time(current)
@@ -228,7 +409,15 @@ def main():
             write_report()
             fail("the OpenFOAM reader found no 3-D cells in %s" % current)
         adapt = AdaptToShocks(Input=reader)
-        for prop, value in config.get("AdaptToShocks", {}).items():
+        props = config.get("AdaptToShocks", {})
+        if k > 1 and "SurfaceSizeFactor" not in props and "SurfaceEdgeLength" not in props:
+            # Keep cycle 1's size at the shock and move it onto the sharper
+            # shock: 0.2 again would shrink the cells (and the explicit
+            # solver's time step) five-fold per cycle.
+            adapt.SurfaceSizeFactor = KEEP_SIZE_FACTOR
+            report += ["cycle %d keeps the size at the shock (SurfaceSizeFactor %g of the input's own, refined, "
+                       "size there) and re-places the refined band on the re-fitted shock" % (k, KEEP_SIZE_FACTOR), ""]
+        for prop, value in props.items():
             try:
                 setattr(adapt, prop, value)
             except AttributeError:
@@ -242,6 +431,26 @@ def main():
             report.append("**failed**: AdaptToShocks did not adapt the mesh (see its error above)")
             write_report()
             fail("AdaptToShocks did not adapt %s (its message is above)" % current)
+        surfaces = split_surfaces(servermanager.Fetch(adapt, None, None, 1))
+        h_in = (field(out, "InputSizeAtSurface") or field(after, "InputSizeAtSurface") or [float("nan")])[0]
+        P_in = vtk_points(before)
+        depth = [a for a in range(3) if len(np.unique(P_in[:, a])) == 2]
+        # lines 8 of the FIRST input's cells either side: later inputs are
+        # finer at the shock than the shock they carry is thin
+        h_first = h_first if k > 1 else h_in
+        stations = shock_stations(surfaces, h_first, depth[0] if depth else None)
+        shock_before = measure_shock(before, stations)
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+        surfaces_vtp = os.path.join(target, "cycle%d_surfaces.vtp" % k)
+        w = vtkXMLPolyDataWriter()
+        w.SetInputData(servermanager.Fetch(adapt, None, None, 1))
+        w.SetFileName(surfaces_vtp)
+        w.SetDataModeToBinary()
+        w.Write()
+        try:
+            mach = mach_range(before, current)
+        except (RuntimeError, OSError, ValueError, TypeError, AttributeError):
+            mach = None  # the pictures say why there are none
         SaveData(os.path.join(case, "cycle%d.foam" % k), proxy=adapt, SourceCase=current, SourceTime=time_name,
                  StartTime="0")
         if not os.path.isfile(os.path.join(case, "constant", "polyMesh", "owner")):
@@ -280,7 +489,17 @@ def main():
             report += ["", "smallest dihedral angle of the new cells (degrees; min %.1f):" % worst, "",
                        "| " + " | ".join("%d-%d" % (a, b) for a, b in zip(edges[:-1], edges[1:])) + " |",
                        "|" + "---:|" * len(counts), "| " + " | ".join(str(int(c)) for c in counts) + " |"]
+        report += shock_rows(shock_before, None, templates, h_in)
         report.append("")
+        pictures = [("cycle %d, before (the input's solution)" % k, os.path.join(target, "cycle%d_before.png" % k),
+                     None)]
+        pictures[0] = pictures[0][:2] + (picture(current, time_name, surfaces_vtp, pictures[0][1],
+                                                 "cycle %d: the input's solution, its mesh" % k, mach),)
+        if not args.solve:
+            png = os.path.join(target, "cycle%d_start.png" % k)
+            pictures.append(("cycle %d, the adapted mesh with the interpolated start field" % k, png,
+                             picture(case, "0", surfaces_vtp, png, "cycle %d: adapted mesh, start field" % k, mach)))
+        report += picture_rows(pictures)
         write_report()
         for p in (reader, adapt):
             Delete(p)
@@ -311,7 +530,13 @@ def main():
                     report.append("")
                     write_report()
                     fail("%s failed on %s (exit %d; see %s)" % (name, case, rc, os.path.join(case, "log." + name)))
-            report += ["", "solved in %.1f s in all, latest time %s" % (total, latest_time(case)), ""]
+            report += ["", "solved in %.1f s in all, latest time %s" % (total, latest_time(case))]
+            solved = read_solution(case, latest_time(case))
+            report += shock_rows(None, measure_shock(solved, stations), templates, h_in) + [""]
+            png = os.path.join(target, "cycle%d_after.png" % k)
+            report += picture_rows([("cycle %d, after (solved on the adapted mesh)" % k, png,
+                                     picture(case, latest_time(case), surfaces_vtp, png,
+                                             "cycle %d: solved on the adapted mesh" % k, mach))])
             write_report()
             current = case
     write_report()

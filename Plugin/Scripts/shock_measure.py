@@ -145,10 +145,13 @@ def summary(r):
                 offset_mean=float(d.mean()), offset_max_abs=float(np.abs(d).max()))
 
 
-def surface_stations(surface, count=24, margin=0.0):
+def surface_stations(surface, count=24, margin=0.0, depth_axis=None):
     """Up to `count` points of a triangulated surface (vtkPolyData) with their
     unit normals, spread over it (farthest-point sampling from its centre),
-    at least `margin` from its boundary edges."""
+    at least `margin` from its boundary edges.  For a one-cell-deep case give
+    the depth axis (0, 1, 2): the surface is a strip across the depth, its
+    borders on the front and back planes do not count, the margin is taken
+    in the cross-section and the points are moved to mid-depth."""
     from vtkmodules.vtkFiltersCore import vtkFeatureEdges, vtkPolyDataNormals, vtkTriangleFilter
     tri = vtkTriangleFilter()
     tri.SetInputData(surface)
@@ -165,6 +168,9 @@ def surface_stations(surface, count=24, margin=0.0):
     P = nps.vtk_to_numpy(out.GetPoints().GetData()).astype(np.float64)
     N = nps.vtk_to_numpy(out.GetPointData().GetNormals()).astype(np.float64)
     keep = np.ones(len(P), bool)
+    mid = None
+    if depth_axis is not None:
+        mid = 0.5 * (P[:, depth_axis].min() + P[:, depth_axis].max())
     if margin > 0:
         fe = vtkFeatureEdges()
         fe.SetInputData(out)
@@ -173,11 +179,21 @@ def surface_stations(surface, count=24, margin=0.0):
         fe.NonManifoldEdgesOff()
         fe.ManifoldEdgesOff()
         fe.Update()
-        if fe.GetOutput().GetNumberOfPoints():
-            B = nps.vtk_to_numpy(fe.GetOutput().GetPoints().GetData()).astype(np.float64)
-            from scipy.spatial import cKDTree
-            dist, _ = cKDTree(B).query(P)
-            keep = dist >= margin
+        edges = fe.GetOutput()
+        if edges.GetNumberOfPoints():
+            B = nps.vtk_to_numpy(edges.GetPoints().GetData()).astype(np.float64)
+            Q = P.copy()
+            if depth_axis is not None:
+                # only the strip's ends (edges across the depth) bound it
+                lines = nps.vtk_to_numpy(edges.GetLines().GetConnectivityArray()).reshape(-1, 2)
+                across = lines[np.abs(B[lines[:, 0], depth_axis] - B[lines[:, 1], depth_axis]) > 0]
+                B = B[np.unique(across)] if len(across) else B[:0]
+                B[:, depth_axis] = 0.0
+                Q[:, depth_axis] = 0.0
+            if len(B):
+                from scipy.spatial import cKDTree
+                dist, _ = cKDTree(B).query(Q)
+                keep = dist >= margin
     idx = np.where(keep)[0]
     if len(idx) == 0:
         return np.zeros((0, 3)), np.zeros((0, 3))
@@ -189,4 +205,7 @@ def surface_stations(surface, count=24, margin=0.0):
             break
         chosen.append(idx[k])
         dmin = np.minimum(dmin, np.linalg.norm(P[idx] - P[idx[k]], axis=1))
-    return P[chosen], N[chosen]
+    P, N = P[chosen], N[chosen]
+    if mid is not None:
+        P[:, depth_axis] = mid
+    return P, N

@@ -6,11 +6,16 @@ solution made here: the first-order Mach 3 wedge of the validation matrix
 - write only: exit 0; the case checkMesh calls "Mesh OK"; its patches have
   the source's names and types; p, U and T are at time 0; controlDict starts
   at 0 with deltaT = the source's x (smallest cell after / before, at most 1),
-  recomputed here from the two meshes; report.md has the cycle's node counts;
+  recomputed here from the two meshes; report.md has the cycle's node counts,
+  the input's shock measured along the fitted plane (10-90 % thickness of
+  the first-order solution 0.015-0.035) and the Mach pictures (1200 x 900,
+  a colour map on them);
 - two cycles solved on two MPI ranks (decomposePar, mpirun, reconstructPar)
   to a bounded endTime (the config's controlDict entries): exit 0; each
   cycle's latest time is that endTime; cycle 2 adapted cycle 1's solution
-  (more nodes); cycle 2's solution reads back in ParaView with finite,
+  (another mesh) and kept its size at the shock (size ratio 0.75-1.33, where
+  cycle 1's is at most 1/3); each cycle's shock measured after the solve, its
+  picture; cycle 2's solution reads back in ParaView with finite,
   positive p and T on every cell;
 - bad input, each exit 1 with a message naming it and no case written: a
   source that is no case, a target that is not empty, two cycles without
@@ -99,6 +104,30 @@ check(entry(cd1, "startFrom") == "startTime" and float(entry(cd1, "startTime")) 
       % (entry(cd1, "deltaT"), entry(cd0, "deltaT"), h1 / h0, h0, h1))
 report = open(os.path.join(t1, "report.md")).read()
 check("## Cycle 1" in report and "| nodes | 14342 |" in report, "write only: report.md holds the cycle and its nodes")
+# The shock along the fitted plane, measured on the source's solution: the
+# first-order solution's 10-90 % rise is ~0.026 wide (make_validation_case.py).
+row = re.search(r"^\| 0 \(Plane\) \| before \| (\d+) of (\d+) \| (\S+) \|", report, re.M)
+check(row is not None and int(row.group(1)) >= 12 and 0.015 < float(row.group(3)) < 0.035,
+      "write only: the report measures the input's shock on %s of %s lines, 10-90 %% thickness %s (0.015-0.035)"
+      % (row.group(1), row.group(2), row.group(3)) if row else "write only: the report has no shock row")
+
+
+def picture_ok(png):
+    """A 1200 x 900 picture with a colour map on it, not a blank window."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    if not os.path.isfile(png):
+        return False
+    r = vtkPNGReader()
+    r.SetFileName(png)
+    r.Update()
+    img = r.GetOutput()
+    rgb = vtk_to_numpy(img.GetPointData().GetScalars())[:, :3]
+    return img.GetDimensions()[:2] == (1200, 900) and len(np.unique(rgb, axis=0)) > 100
+
+
+check(all(picture_ok(os.path.join(t1, n)) for n in ("cycle1_before.png", "cycle1_start.png"))
+      and "![cycle 1, before" in report,
+      "write only: the Mach pictures before and on the adapted mesh are in the report")
 
 # ---- Two cycles, solved on two ranks, to a bounded end time.
 end = 0.0005
@@ -114,12 +143,21 @@ check(all(abs(t - end) < 1e-12 for t in times), "both cycles ran to endTime %g (
 report = open(os.path.join(t2, "report.md")).read()
 check("adapted `%s`" % os.path.join(t2, "cycle1") in report and report.count("rhoCentralFoam: exit 0") == 2,
       "cycle 2 adapted cycle 1's solution; the report has both solver runs")
+check(len(re.findall(r"^\| 0 \(Plane\) \| after \| \d+ of", report, re.M)) == 2
+      and all(picture_ok(os.path.join(t2, "cycle%d_after.png" % k)) for k in (1, 2)),
+      "each cycle's report measures the shock on the solved mesh and shows its picture")
 g1, g2 = read_case(os.path.join(t2, "cycle1"), 0.0), read_case(os.path.join(t2, "cycle2"))
 p2 = vtk_to_numpy(g2.GetCellData().GetArray("p"))
 T2 = vtk_to_numpy(g2.GetCellData().GetArray("T"))
-check(g2.GetNumberOfPoints() > g1.GetNumberOfPoints() and np.isfinite(p2).all() and p2.min() > 0 and T2.min() > 0,
+check(g2.GetNumberOfPoints() != g1.GetNumberOfPoints() and np.isfinite(p2).all() and p2.min() > 0 and T2.min() > 0,
       "cycle 2's solution reads back: %d nodes (cycle 1: %d), p in [%.3f, %.3f], T > 0 on all %d cells"
       % (g2.GetNumberOfPoints(), g1.GetNumberOfPoints(), p2.min(), p2.max(), len(p2)))
+# Cycle 2 keeps cycle 1's size at the shock (SurfaceSizeFactor 0.75 of the
+# longest edges there) instead of shrinking it five-fold again.
+ratios = [float(x) for x in re.findall(r"new cells at the shock ([0-9.]+) of the input's size", report)]
+check(len(ratios) == 2 and ratios[0] <= 1.0 / 3.0 and 0.75 <= ratios[1] <= 1.33,
+      "cycle 1 refines at the shock (size ratio %s), cycle 2 keeps that size (within a third)"
+      % " and ".join("%.2f" % r for r in ratios))
 
 
 # ---- Bad input.

@@ -716,6 +716,50 @@ def steadiness(case):
     return rms / rng, max(d) / rng, rng, times[-2], times[-1]
 
 
+def solver_history(case, log="log.rhoCentralFoam"):
+    """[(time, ExecutionTime s, ClockTime s)] of each step in the solver's log."""
+    out, t = [], None
+    with open(os.path.join(case, log)) as f:
+        for line in f:
+            if line.startswith("Time = "):
+                t = float(line.split()[2])
+            elif line.startswith("ExecutionTime = ") and t is not None:
+                w = line.split()
+                out.append((t, float(w[2]), float(w[6])))
+    return out
+
+
+def steady_time(case, tol=STEADY_RMS, log="log.rhoCentralFoam"):
+    """When the solution became steady: the first written time from which
+    on every change of p between consecutive writes stays below `tol` of
+    the p range (rms), with the solver's CPU and clock seconds to reach it
+    (from its log).  Returns (time, cpu s, clock s, [(t, rms/range)]), the
+    time None if it never settled."""
+    times = time_dirs(case)
+    changes, prev = [], None
+    for t in times:
+        p = read_p(case, t)
+        if prev is not None:
+            d = [x - y for x, y in zip(p, prev)]
+            changes.append((float(t), (sum(x * x for x in d) / len(d)) ** 0.5 / (max(p) - min(p))))
+        prev = p
+    settled = None
+    for i in range(len(changes) - 1, -1, -1):
+        if changes[i][1] >= tol:
+            break
+        settled = changes[i][0]
+    # the write before the first small change is where the solution already
+    # was what it stays: the steady time is that earlier write
+    if settled is not None:
+        k = [c[0] for c in changes].index(settled)
+        settled = changes[k - 1][0] if k > 0 else float(times[0])
+    history = solver_history(case, log)
+    if settled is None or not history:
+        return None, None, None, changes
+    step = min(history, key=lambda h: abs(h[0] - settled))
+    return settled, step[1], step[2], changes
+
+
 def check_mesh_summary(case):
     with open(os.path.join(case, "log.checkMesh")) as f:
         txt = f.read()

@@ -313,10 +313,16 @@ def picture(case, time_name, surfaces_vtp, png, title, mach):
         return why
     env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_", "HYDRA_"))}
     env["DISPLAY"] = display
-    for attempt in range(2):
+    # XOpenDisplay fails now and then on a loaded machine ("bad X server
+    # connection", 1 in 4 to 6 tries here, on a private Xvfb and on a
+    # long-running one alike): try again
+    for attempt in range(5):
         r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         if r.returncode == 0 and os.path.isfile(png):
             return None
+        if "bad X server connection" not in r.stdout:
+            break
+        time.sleep(1.0)
     lines = [re.sub(r"\x1b\[[0-9;]*m", "", l) for l in r.stdout.splitlines()]
     said = [l for l in lines if "ERR|" in l or "Error" in l or "shock_pictures.py:" in l] or lines[-1:]
     return "shock_pictures.py failed (exit %d, DISPLAY %s): %s" % (r.returncode, display, " / ".join(said[:3]))

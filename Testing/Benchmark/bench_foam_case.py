@@ -14,8 +14,8 @@ the written case gets the validation wedge's system/ and gas
 (make_validation_case.py) and its fields as time 1, then
 `pvbatch adapt_case.py CASE TARGET` (reading the case with ParaView's
 OpenFOAM reader, AdaptToShocks with its defaults, writing the adapted case)
-is timed as a child process; its report's AdaptToShocks seconds are given
-beside it. Prints a Markdown table.
+is timed as a child process (cubes up to --adapt-max tetrahedra); its
+report's AdaptToShocks seconds are given beside it. Prints a Markdown table.
 """
 import argparse
 import os
@@ -40,6 +40,8 @@ parser = argparse.ArgumentParser()
 parser.add_argument("--plugin", default=os.path.join(root, "build", "lib", "paraview-5.11", "plugins",
                                                       "AdaptiveRedistribution", "AdaptiveRedistribution.so"))
 parser.add_argument("--work", default="/tmp/ar_bench_foam_case")
+parser.add_argument("--adapt-max", type=int, default=1200000,
+                    help="run adapt_case.py only on cubes of at most this many tetrahedra (default 1.2e6)")
 parser.add_argument("sizes", nargs="*", type=int, default=[55, 95])
 args = parser.parse_args()
 LoadPlugin(args.plugin, ns=globals())
@@ -107,7 +109,7 @@ for n in args.sizes:
     del grid
     t_adapt = float("nan")
     t_ats = float("nan")
-    if ok:
+    if ok and 6 * n ** 3 <= args.adapt_max:
         foam_case(target)
         adapted = target + "_adapted"
         shutil.rmtree(adapted, ignore_errors=True)
@@ -121,6 +123,8 @@ for n in args.sizes:
             m = re.search(r"AdaptToShocks in ([0-9.]+) s", open(os.path.join(adapted, "report.md")).read())
             t_ats = float(m.group(1)) if m else float("nan")
     rows.append((6 * n ** 3, t_write, size, ok, t_adapt, t_ats))
+    shutil.rmtree(target, ignore_errors=True)
+    shutil.rmtree(target + "_adapted", ignore_errors=True)
 
 say("| tets | write s | case MB | written | adapt_case.py (no --solve) s | of which AdaptToShocks s |")
 say("|---:|---:|---:|---|---:|---:|")

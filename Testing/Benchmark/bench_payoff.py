@@ -36,7 +36,8 @@ after which p's rms change between writes stays under 0.1 % of its range
 The table compares each adapted mesh with the uniform meshes interpolated
 (log-log in the node count) to its node count: thickness ratio (target at
 most 0.5), CPU-to-steady ratio (target at most 2), angle error (target
-within 0.5 deg).  It is printed and written to WORK/payoff.md.
+within 0.5 deg); and gives the uniform mesh as sharp as it (nodes and CPU
+to steady interpolated log-log in the thickness).  It is printed and written to WORK/payoff.md.
 """
 import argparse
 import json
@@ -192,18 +193,25 @@ def main():
     uc = [r["cpu_steady"] for r in uniform]
     beta = mvc.theory(c)[0]
     out = ["# Payoff: %s (%s, theory %.3f deg)" % (a.case, c["kind"], beta), "",
-           "| mesh | nodes | cells | 10-90 %% thickness | vs uniform at equal nodes | angle - theory (deg) "
-           "| steady at t | CPU s to steady | vs uniform | CPU s in all (to t) |",
-           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+           "| mesh | nodes | cells | 10-90 % thickness | vs uniform at equal nodes | angle - theory (deg) "
+           "| steady at t | CPU s to steady | vs uniform at equal nodes | uniform at equal thickness: nodes, "
+           "CPU s to steady | CPU s in all (to t) |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for name, r in rows:
         adapted = not name.startswith("uniform")
         tr = r["thickness"] / interp(r["nodes"], un, ut) if adapted else None
         cr = (r["cpu_steady"] / interp(r["nodes"], un, uc)) if adapted and r["cpu_steady"] else None
-        out.append("| %s | %d | %d | %.4g (%d lines) | %s | %+.2f | %s | %s | %s | %.0f (%g) |" % (
+        same = ""
+        if adapted:
+            # the uniform mesh that would be as sharp: nodes and cost, log-log
+            # in the thickness (extrapolated past the finest uniform mesh)
+            same = "%d, %.0f%s" % (interp(r["thickness"], ut, un), interp(r["thickness"], ut, uc),
+                                   " (extrapolated)" if r["thickness"] < min(ut) else "")
+        out.append("| %s | %d | %d | %.4g (%d lines) | %s | %+.2f | %s | %s | %s | %s | %.0f (%g) |" % (
             name, r["nodes"], r["cells"], r["thickness"], r["lines"], "%.2f" % tr if tr else "",
             r["angle_error"], "%g" % r["steady_time"] if r["steady_time"] is not None else "not steady",
             "%.0f" % r["cpu_steady"] if r["cpu_steady"] is not None else "-", "%.2f" % cr if cr else "",
-            r["cpu_total"], r["end_time"]))
+            same, r["cpu_total"], r["end_time"]))
     out += ["", "Targets at equal node count: thickness ratio <= 0.5, CPU-to-steady ratio <= 2, "
             "angle within 0.5 deg. Adapted solves start from the interpolated solution (endTime %g); "
             "the uniform ones from the free stream (endTime %g)." % (end, c["end"])]

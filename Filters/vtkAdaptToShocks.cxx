@@ -3,9 +3,11 @@
 
 #include "vtkARMeshKernels.h"
 #include "vtkAppendPolyData.h"
+#include "ARSurfaceFit.h"
 #include "ARSurfaceRemesh.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCellDataToPointData.h"
 #include "vtkCellTypes.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataObjectTreeIterator.h"
@@ -17,6 +19,7 @@
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkMultiBlockDataSet.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -28,6 +31,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -35,6 +39,165 @@
 #include <vector>
 
 vtkStandardNewMacro(vtkAdaptToShocks);
+
+namespace
+{
+// Two shocks meet in a cluster when its nodes' shock normals form two tight
+// families clearly apart (ar::SplitDirectionFamilies): the families' axes
+// at least MeetingAngle degrees and MeetingSeparation times the families'
+// median spread apart, the lighter family at least MeetingFraction of the
+// weight. One family split in two (a plane shock) gives axes a few degrees
+// apart; a continuous family (a cone, a curved shock) axes at most about 4
+// times the spread apart: 8 is twice that bound.
+constexpr double MeetingAngle = 10.0;
+constexpr double MeetingSeparation = 8.0;
+constexpr double MeetingFraction = 0.1;
+
+/**
+ * The shock normals of the chosen clusters: at each node of a chosen
+ * cluster, the gradient of the sensor's pressure (or, with the conserved
+ * variables, its density), averaged from the cells around the node (ghost
+ * cells complete the stencils at partition boundaries), weighted by its
+ * magnitude; split into two families per cluster on rank 0. Returns the
+ * message for the first cluster in which two shocks meet, else "";
+ * `families` gets each cluster's angle, spread and fraction (NaN: not
+ * computed). Collective.
+ */
+std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& chosen, vtkDataArray* sizes,
+  std::vector<double>& families)
+{
+  families.assign(3 * chosen.size(), std::numeric_limits<double>::quiet_NaN());
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
+  auto* flow = vtkStringArray::SafeDownCast(mesh->GetFieldData()->GetAbstractArray("FlowStateArrays"));
+  vtkIntArray* ids = vtkIntArray::SafeDownCast(mesh->GetPointData()->GetArray("ClusterId"));
+  std::string name = flow && flow->GetNumberOfValues() > 1 ? flow->GetValue(1) : "";
+  vtkSmartPointer<vtkDataArray> jump = mesh->GetPointData()->GetArray(name.c_str());
+  if (!jump && mesh->GetCellData()->GetArray(name.c_str()))
+  {
+    vtkNew<vtkUnstructuredGrid> cells; // a cell field: averaged to the points
+    cells->CopyStructure(mesh);
+    cells->GetCellData()->AddArray(mesh->GetCellData()->GetArray(name.c_str()));
+    vtkNew<vtkCellDataToPointData> toPoints;
+    toPoints->SetInputData(cells);
+    toPoints->Update();
+    jump = toPoints->GetOutput()->GetPointData()->GetArray(name.c_str());
+  }
+  vtkARMeshKernels::MeshView view;
+  std::string error;
+  double usable = jump && ids && jump->GetNumberOfComponents() == 1 && view.Build(mesh, error) ? 1.0 : 0.0;
+  if (usable == 0.0)
+  {
+    view = vtkARMeshKernels::MeshView();
+  }
+  std::vector<int> slot(usable > 0.0 ? mesh->GetNumberOfPoints() : 0, -1);
+  for (std::size_t j = 0; j < chosen.size(); ++j)
+  {
+    for (vtkIdType p = 0; p < static_cast<vtkIdType>(slot.size()); ++p)
+    {
+      if (ids->GetValue(p) == chosen[j])
+      {
+        slot[p] = static_cast<int>(j);
+      }
+    }
+  }
+  std::vector<double> gradient;
+  if (usable > 0.0)
+  {
+    vtkARMeshKernels::CellsToPoints(
+      view, 3,
+      [&](vtkIdType c, double* g, double& weight) {
+        const vtkIdType* pts = view.CellPoints(c);
+        const int n = view.CellSize(c);
+        bool near = false;
+        for (int a = 0; a < n && !near; ++a)
+        {
+          near = slot[pts[a]] >= 0;
+        }
+        double W[vtkARMeshKernels::MaxCellPoints][3];
+        int m;
+        if (!near || !view.IsVolumeCell(c) || !vtkARMeshKernels::GradientOperator(view, c, W, m, weight))
+        {
+          return false;
+        }
+        g[0] = g[1] = g[2] = 0.0;
+        for (int a = 0; a < m; ++a)
+        {
+          const double q = jump->GetComponent(pts[a], 0);
+          for (int k = 0; k < 3; ++k)
+          {
+            g[k] += W[a][k] * q;
+          }
+        }
+        return true;
+      },
+      gradient, nullptr);
+  }
+  for (std::size_t j = 0; j < chosen.size(); ++j)
+  {
+    std::vector<double> local; // gx gy gz |g| per owned node of the cluster
+    for (vtkIdType p = 0; p < static_cast<vtkIdType>(slot.size()); ++p)
+    {
+      if (slot[p] == static_cast<int>(j) && view.IsOwnedPoint(p))
+      {
+        const double* g = &gradient[3 * p];
+        local.insert(local.end(), { g[0], g[1], g[2], std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) });
+      }
+    }
+    const std::vector<double> all = vtkARMeshKernels::GatherOnRoot(local);
+    // [meet, angle, spread, fraction, axis 0, axis 1]: rank 0's, summed.
+    double verdict[10] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
+    const std::size_t n = all.size() / 4;
+    if (root)
+    {
+      // NaN (summed: NaN everywhere) unless computed below
+      verdict[1] = verdict[2] = verdict[3] = std::numeric_limits<double>::quiet_NaN();
+    }
+    if (n >= 2)
+    {
+      std::vector<double> directions(3 * n), weights(n);
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        std::copy(&all[4 * i], &all[4 * i + 3], &directions[3 * i]);
+        weights[i] = all[4 * i + 3];
+      }
+      ar::DirectionFamilies families;
+      if (ar::SplitDirectionFamilies(directions.data(), weights.data(), n, families))
+      {
+        verdict[0] = families.AngleDegrees >= MeetingAngle &&
+            families.AngleDegrees >= MeetingSeparation * families.SpreadDegrees &&
+            families.Fraction >= MeetingFraction
+          ? 1.0
+          : 0.0;
+        verdict[1] = families.AngleDegrees;
+        verdict[2] = families.SpreadDegrees;
+        verdict[3] = families.Fraction;
+        std::copy(families.Axes[0], families.Axes[0] + 3, verdict + 4);
+        std::copy(families.Axes[1], families.Axes[1] + 3, verdict + 7);
+      }
+    }
+    vtkARMeshKernels::AllReduceSum(verdict, 10);
+    std::copy(verdict + 1, verdict + 4, &families[3 * j]);
+    if (verdict[0] > 0.0)
+    {
+      std::ostringstream msg;
+      msg.precision(3);
+      msg << "two shocks meet in cluster " << chosen[j] << " (" << static_cast<long long>(sizes->GetComponent(chosen[j], 0))
+          << " nodes): the shock normals at its nodes (the gradient of " << name
+          << ") form two families " << verdict[1] << " degrees apart, each within " << verdict[2]
+          << " degrees (median) of its own direction, (" << verdict[4] << ", " << verdict[5] << ", "
+          << verdict[6] << ") and (" << verdict[7] << ", " << verdict[8] << ", " << verdict[9]
+          << "), the smaller holding " << 100.0 * verdict[3]
+          << "% of the cluster. No single plane, cone or quadric follows both, and surfaces that "
+             "meet cannot be embedded together: to adapt to one of them, fit it by hand "
+             "(QuadricFit on the medial points on its side of the line where they meet) and "
+             "remesh with EmbeddedRemesh.";
+      return msg.str();
+    }
+  }
+  return std::string();
+}
+}
 
 
 //------------------------------------------------------------------------------
@@ -206,6 +369,14 @@ int vtkAdaptToShocks::RequestData(
       chosen.push_back(static_cast<int>(k));
     }
   }
+  // Two shocks that meet (an X, a V, a lambda) in one cluster: no template
+  // fits them, and the fit's residual alone does not show it.
+  std::vector<double> families;
+  const std::string meeting = TwoShocksMeet(clusters->GetOutput(), chosen, sizes, families);
+  if (!meeting.empty())
+  {
+    return passThrough(meeting);
+  }
   const double secondsClusters = lap();
   this->UpdateProgress(0.35);
   if (this->CheckAbort())
@@ -365,6 +536,17 @@ int vtkAdaptToShocks::RequestData(
   const double count = static_cast<double>(fitted.size());
   fd->AddArray(vtkARMeshKernels::FieldArray("NumberOfSurfaces", &count, 1));
   fd->AddArray(templates);
+  // Per cluster that got a surface, before the crossing check: its shock
+  // normals' two families (angle, median spread in degrees, lighter
+  // family's fraction), the two-shocks-meet check's measures.
+  auto normalFamilies = vtkARMeshKernels::FieldArray("NormalFamilies", families.data(), static_cast<int>(families.size()));
+  normalFamilies->SetNumberOfComponents(3);
+  normalFamilies->SetNumberOfTuples(static_cast<vtkIdType>(chosen.size()));
+  for (std::size_t i = 0; i < families.size(); ++i)
+  {
+    normalFamilies->SetValue(static_cast<vtkIdType>(i), families[i]);
+  }
+  fd->AddArray(normalFamilies);
   fd->AddArray(vtkARMeshKernels::FieldArray("SecondsSensor", &secondsSensor, 1));
   fd->AddArray(vtkARMeshKernels::FieldArray("SecondsClusters", &secondsClusters, 1));
   fd->AddArray(vtkARMeshKernels::FieldArray("SecondsFit", &secondsFit, 1));

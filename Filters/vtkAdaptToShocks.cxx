@@ -2,6 +2,7 @@
 #include "vtkAdaptToShocks.h"
 
 #include "vtkARMeshKernels.h"
+#include "vtkAppendFilter.h"
 #include "vtkAppendPolyData.h"
 #include "ARSurfaceFit.h"
 #include "ARSurfaceRemesh.h"
@@ -11,7 +12,9 @@
 #include "vtkCellTypes.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataObjectTreeIterator.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
+#include "vtkDummyController.h"
 #include "vtkEmbeddedRemesh.h"
 #include "vtkFeatureCluster.h"
 #include "vtkFieldData.h"
@@ -63,7 +66,7 @@ constexpr double MeetingFraction = 0.1;
  * `families` gets each cluster's angle, spread and fraction (NaN: not
  * computed). Collective.
  */
-std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& chosen, vtkDataArray* sizes,
+std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& chosen, const std::vector<double>& sizes,
   std::vector<double>& families)
 {
   families.assign(3 * chosen.size(), std::numeric_limits<double>::quiet_NaN());
@@ -182,7 +185,7 @@ std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& cho
     {
       std::ostringstream msg;
       msg.precision(3);
-      msg << "two shocks meet in cluster " << chosen[j] << " (" << static_cast<long long>(sizes->GetComponent(chosen[j], 0))
+      msg << "two shocks meet in cluster " << chosen[j] << " (" << static_cast<long long>(sizes[chosen[j]])
           << " nodes): the shock normals at its nodes (the gradient of " << name
           << ") form two families " << verdict[1] << " degrees apart, each within " << verdict[2]
           << " degrees (median) of its own direction, (" << verdict[4] << ", " << verdict[5] << ", "
@@ -196,6 +199,40 @@ std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& cho
     }
   }
   return std::string();
+}
+
+/// The owned cells of every rank's piece in one mesh on rank 0 (ghost cells
+/// dropped, the points the pieces share merged: exact duplicates only); an
+/// empty mesh on the other ranks. Collective.
+vtkSmartPointer<vtkUnstructuredGrid> GatherVolumeOnRoot(vtkUnstructuredGrid* piece)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  vtkNew<vtkUnstructuredGrid> owned;
+  owned->DeepCopy(piece);
+  owned->RemoveGhostCells();
+  owned->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  std::vector<vtkSmartPointer<vtkDataObject>> parts;
+  ctrl->Gather(owned, parts, 0);
+  auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  if (ctrl->GetLocalProcessId() == 0)
+  {
+    vtkNew<vtkAppendFilter> merge;
+    merge->MergePointsOn();
+    merge->SetTolerance(0.0);
+    for (auto& part : parts)
+    {
+      auto* grid = vtkUnstructuredGrid::SafeDownCast(part);
+      if (grid && grid->GetNumberOfCells() > 0)
+      {
+        merge->AddInputData(grid);
+      }
+    }
+    merge->Update();
+    whole->ShallowCopy(merge->GetOutput());
+    whole->GetFieldData()->ShallowCopy(piece->GetFieldData());
+  }
+  return whole;
 }
 }
 
@@ -339,12 +376,25 @@ int vtkAdaptToShocks::RequestData(
   clusters->SetMinimumClusterSize(this->MinimumClusterSize);
   clusters->Update();
   auto* medial = vtkPolyData::SafeDownCast(clusters->GetOutputDataObject(1));
-  vtkDataArray* sizes = medial ? medial->GetFieldData()->GetArray("ClusterSizes") : nullptr;
-  if (!clusters->GetOutput()->GetPointData()->GetArray("FeatureMask") || !sizes)
+  // The cluster sizes are rank 0's (with the medial points): every rank
+  // needs them, to choose the same clusters and take part in each fit.
+  vtkDataArray* sizeArray = medial ? medial->GetFieldData()->GetArray("ClusterSizes") : nullptr;
+  double header[2] = { sizeArray ? 1.0 : 0.0, sizeArray ? static_cast<double>(sizeArray->GetNumberOfTuples()) : 0.0 };
+  header[0] = clusters->GetOutput()->GetPointData()->GetArray("FeatureMask") ? header[0] : -1.0;
+  double missingMask = header[0] < 0.0 ? 1.0 : 0.0;
+  vtkARMeshKernels::AllReduceMax(header, 2);
+  vtkARMeshKernels::AllReduceMax(&missingMask, 1);
+  std::vector<double> sizes(static_cast<std::size_t>(header[1]), 0.0);
+  for (std::size_t k = 0; sizeArray && k < sizes.size(); ++k)
+  {
+    sizes[k] = sizeArray->GetComponent(static_cast<vtkIdType>(k), 0);
+  }
+  vtkARMeshKernels::AllReduceSum(sizes.data(), static_cast<int>(sizes.size()));
+  if (missingMask > 0.0 || header[0] <= 0.0)
   {
     return passThrough("feature clustering could not run (see its message above).");
   }
-  if (sizes->GetNumberOfTuples() == 0)
+  if (sizes.empty())
   {
     vtkDataArray* cells = sensed->GetCellData()->GetArray("ShockCells");
     double shockCells = 0.0;
@@ -361,10 +411,10 @@ int vtkAdaptToShocks::RequestData(
   }
   // The clusters that get a surface (ids are by decreasing size).
   std::vector<int> chosen;
-  const double largest = sizes->GetComponent(0, 0);
-  for (vtkIdType k = 0; k < sizes->GetNumberOfTuples() && static_cast<int>(chosen.size()) < this->MaximumNumberOfSurfaces; ++k)
+  const double largest = sizes[0];
+  for (std::size_t k = 0; k < sizes.size() && static_cast<int>(chosen.size()) < this->MaximumNumberOfSurfaces; ++k)
   {
-    if (sizes->GetComponent(k, 0) >= this->MinimumClusterFraction * largest)
+    if (sizes[k] >= this->MinimumClusterFraction * largest)
     {
       chosen.push_back(static_cast<int>(k));
     }
@@ -404,7 +454,7 @@ int vtkAdaptToShocks::RequestData(
     vtkARMeshKernels::AllReduceMax(&have, 1); // the surface is on rank 0 under MPI
     if (have == 0.0)
     {
-      fitProblems << " cluster " << k << " (" << sizes->GetComponent(k, 0) << " nodes)";
+      fitProblems << " cluster " << k << " (" << sizes[k] << " nodes)";
       continue;
     }
     auto copy = vtkSmartPointer<vtkPolyData>::New();
@@ -473,7 +523,7 @@ int vtkAdaptToShocks::RequestData(
       if (crossed >= 0)
       {
         vtkWarningMacro(<< "AdaptToShocks: the surface of cluster " << fittedCluster[i] << " ("
-                        << sizes->GetComponent(fittedCluster[i], 0) << " nodes) crosses the surface of cluster "
+                        << sizes[fittedCluster[i]] << " nodes) crosses the surface of cluster "
                         << fittedCluster[crossed] << " and is left out.");
         continue;
       }
@@ -506,9 +556,37 @@ int vtkAdaptToShocks::RequestData(
   const double secondsFit = lap();
   this->UpdateProgress(0.5);
 
-  // ---- 4. The remeshing with every surface embedded.
+  // ---- 4. The remeshing with every surface embedded. EmbeddedRemesh
+  // distributes tetrahedral meshes only: under MPI a hybrid or one-cell-deep
+  // volume (the 2-D mode) is gathered to rank 0 and remeshed there alone.
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  const bool distributed = ctrl && ctrl->GetNumberOfProcesses() > 1;
+  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
+  vtkSmartPointer<vtkDataObject> remeshInput = input;
+  bool alone = false;
+  if (distributed && vtkUnstructuredGrid::SafeDownCast(input))
+  {
+    double other = 0.0;
+    for (vtkIdType c = 0; c < volume->GetNumberOfCells() && other == 0.0; ++c)
+    {
+      other = volume->GetCellType(c) != VTK_TETRA ? 1.0 : 0.0;
+    }
+    vtkARMeshKernels::AllReduceMax(&other, 1);
+    if (other > 0.0)
+    {
+      alone = true;
+      remeshInput = GatherVolumeOnRoot(volume);
+      if (root)
+      {
+        vtkWarningMacro(<< "AdaptToShocks: the mesh is not tetrahedral (hybrid, or one cell deep): it is "
+                           "gathered to rank 0 ("
+                        << vtkUnstructuredGrid::SafeDownCast(remeshInput)->GetNumberOfCells()
+                        << " cells) and remeshed there; the other ranks' outputs are empty.");
+      }
+    }
+  }
   vtkNew<vtkEmbeddedRemesh> remesh;
-  remesh->SetInputData(input);
+  remesh->SetInputData(remeshInput);
   for (const auto& s : fitted)
   {
     remesh->AddSurfaceData(s);
@@ -520,18 +598,58 @@ int vtkAdaptToShocks::RequestData(
   remesh->SetNumberOfLayers(this->NumberOfLayers);
   remesh->SetRemovalFactor(this->RemovalFactor);
   remesh->SetInterpolateFields(this->InterpolateFields);
-  remesh->Update();
+  if (!alone)
+  {
+    remesh->Update();
+  }
+  else if (root)
+  {
+    // EmbeddedRemesh runs its distributed path whenever the global
+    // controller has several processes: for its run on rank 0 alone, the
+    // global controller is one process, and is given back right after.
+    vtkNew<vtkDummyController> one;
+    vtkMultiProcessController::SetGlobalController(one);
+    remesh->Update();
+    vtkMultiProcessController::SetGlobalController(ctrl);
+  }
   vtkDataObject* adapted = remesh->GetOutputDataObject(0);
   vtkUnstructuredGrid* adaptedVolume = vtkEmbeddedRemesh::VolumeLeaf(adapted);
-  if (!adaptedVolume || !adaptedVolume->GetCellData()->GetArray("Region"))
+  double remeshed = adaptedVolume && adaptedVolume->GetCellData()->GetArray("Region") ? 1.0 : 0.0;
+  if (alone)
+  {
+    vtkARMeshKernels::AllReduceMax(&remeshed, 1); // rank 0's
+  }
+  if (remeshed == 0.0)
   {
     return passThrough("the remeshing failed (see EmbeddedRemesh's message above).");
   }
+  if (alone)
+  {
+    // Every rank gets rank 0's field data (as EmbeddedRemesh's distributed
+    // path gives it); the other ranks' meshes are empty.
+    vtkNew<vtkUnstructuredGrid> carrier;
+    if (root)
+    {
+      carrier->GetFieldData()->ShallowCopy(adaptedVolume->GetFieldData());
+    }
+    ctrl->Broadcast(carrier, 0);
+    if (!root)
+    {
+      vtkNew<vtkUnstructuredGrid> empty;
+      empty->GetFieldData()->ShallowCopy(carrier->GetFieldData());
+      output->ShallowCopy(empty);
+      surfaces->ShallowCopy(append->GetOutput());
+    }
+  }
   const double secondsRemesh = lap();
 
-  output->ShallowCopy(adapted);
-  surfaces->ShallowCopy(append->GetOutput());
-  vtkUnstructuredGrid* outVolume = vtkEmbeddedRemesh::VolumeLeaf(output);
+  if (!alone || root)
+  {
+    output->ShallowCopy(adapted);
+    surfaces->ShallowCopy(append->GetOutput());
+  }
+  vtkUnstructuredGrid* outVolume = vtkUnstructuredGrid::SafeDownCast(output);
+  outVolume = outVolume ? outVolume : vtkEmbeddedRemesh::VolumeLeaf(output);
   vtkFieldData* fd = outVolume->GetFieldData();
   const double count = static_cast<double>(fitted.size());
   fd->AddArray(vtkARMeshKernels::FieldArray("NumberOfSurfaces", &count, 1));

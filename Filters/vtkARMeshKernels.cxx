@@ -367,6 +367,31 @@ void vtkARMeshKernels::AllReduceSum(double* values, int n)
   }
 }
 
+std::vector<double> vtkARMeshKernels::GatherOnRoot(const std::vector<double>& local)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (!ctrl || ctrl->GetNumberOfProcesses() < 2)
+  {
+    return local;
+  }
+  const int np = ctrl->GetNumberOfProcesses();
+  double mine = static_cast<double>(local.size());
+  std::vector<double> counts(np, 0.0);
+  ctrl->Gather(&mine, counts.data(), 1, 0);
+  std::vector<vtkIdType> lengths(np, 0), offsets(np, 0);
+  vtkIdType total = 0;
+  for (int r = 0; r < np; ++r)
+  {
+    lengths[r] = static_cast<vtkIdType>(counts[r]);
+    offsets[r] = total;
+    total += lengths[r];
+  }
+  std::vector<double> all(ctrl->GetLocalProcessId() == 0 ? total : 0);
+  ctrl->GatherV(local.data(), all.data(), static_cast<vtkIdType>(local.size()), lengths.data(),
+    offsets.data(), 0);
+  return all;
+}
+
 //------------------------------------------------------------------------------
 void vtkARMeshKernels::EnsureThreadedBackend()
 {

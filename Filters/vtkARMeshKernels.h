@@ -175,6 +175,9 @@ public:
   /// MPI reductions over the global controller (no-ops in serial).
   static void AllReduceMax(double* values, int n);
   static void AllReduceSum(double* values, int n);
+  /// Every rank's `local` concatenated in rank order on rank 0 (empty on the
+  /// other ranks; `local` itself in serial). Collective.
+  static std::vector<double> GatherOnRoot(const std::vector<double>& local);
   static int NumberOfRanks();
 
   /// Selects the STDThread SMP backend when VTK would otherwise run

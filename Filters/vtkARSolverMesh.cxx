@@ -830,10 +830,10 @@ void vtkARSolverMesh::GetInternalFaces(std::vector<vtkIdType>& owner,
 //------------------------------------------------------------------------------
 unsigned long vtkARSolverMesh::Prepare(vtkAlgorithm* writer, const char* label,
   const std::string& path, vtkDataObject* input, const char* defaultPatchName, double tolerance,
-  vtkARSolverMesh& mesh)
+  vtkARSolverMesh& mesh, bool gathered)
 {
   auto* controller = vtkMultiProcessController::GetGlobalController();
-  if (controller && controller->GetNumberOfProcesses() > 1)
+  if (!gathered && controller && controller->GetNumberOfProcesses() > 1)
   {
     vtkErrorWithObjectMacro(writer, << label << ": runs serially; with "
                                     << controller->GetNumberOfProcesses()

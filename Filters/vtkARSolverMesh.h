@@ -108,11 +108,13 @@ public:
   static std::string CleanName(const std::string& name, const std::string& fallback);
 
   /// The common start of a writer's WriteData: refuses to run on more than
-  /// one MPI rank, builds `mesh` from `input` and reports errors and warnings
-  /// on `writer` (prefixed by `label`). Returns the vtkErrorCode the writer
-  /// should set (NoError when the mesh is ready).
+  /// one MPI rank (unless `gathered`: the writer has gathered the whole
+  /// mesh on this rank), builds `mesh` from `input` and reports errors and
+  /// warnings on `writer` (prefixed by `label`). Returns the vtkErrorCode the
+  /// writer should set (NoError when the mesh is ready).
   static unsigned long Prepare(vtkAlgorithm* writer, const char* label, const std::string& path,
-    vtkDataObject* input, const char* defaultPatchName, double tolerance, vtkARSolverMesh& mesh);
+    vtkDataObject* input, const char* defaultPatchName, double tolerance, vtkARSolverMesh& mesh,
+    bool gathered = false);
 
   /// Writes `path` through a temporary file renamed at the end. `body`
   /// streams the content and returns false (with `error`) to abandon.

@@ -2,14 +2,19 @@
 #include "vtkAdaptToShocks.h"
 
 #include "vtkARMeshKernels.h"
+#include "vtkAppendFilter.h"
 #include "vtkAppendPolyData.h"
+#include "ARSurfaceFit.h"
 #include "ARSurfaceRemesh.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCellDataToPointData.h"
 #include "vtkCellTypes.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataObjectTreeIterator.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
+#include "vtkDummyController.h"
 #include "vtkEmbeddedRemesh.h"
 #include "vtkFeatureCluster.h"
 #include "vtkFieldData.h"
@@ -17,6 +22,7 @@
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkMultiBlockDataSet.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -28,6 +34,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -35,6 +42,199 @@
 #include <vector>
 
 vtkStandardNewMacro(vtkAdaptToShocks);
+
+namespace
+{
+// Two shocks meet in a cluster when its nodes' shock normals form two tight
+// families clearly apart (ar::SplitDirectionFamilies): the families' axes
+// at least MeetingAngle degrees and MeetingSeparation times the families'
+// median spread apart, the lighter family at least MeetingFraction of the
+// weight. One family split in two (a plane shock) gives axes a few degrees
+// apart; a continuous family (a cone, a curved shock) axes at most about 4
+// times the spread apart: 8 is twice that bound.
+constexpr double MeetingAngle = 10.0;
+constexpr double MeetingSeparation = 8.0;
+constexpr double MeetingFraction = 0.1;
+
+/**
+ * The shock normals of the chosen clusters: at each node of a chosen
+ * cluster, the gradient of the sensor's pressure (or, with the conserved
+ * variables, its density), averaged from the cells around the node (ghost
+ * cells complete the stencils at partition boundaries), weighted by its
+ * magnitude; split into two families per cluster on rank 0. Returns the
+ * message for the first cluster in which two shocks meet, else "";
+ * `families` gets each cluster's angle, spread and fraction (NaN: not
+ * computed). Collective.
+ */
+std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& chosen, const std::vector<double>& sizes,
+  std::vector<double>& families)
+{
+  families.assign(3 * chosen.size(), std::numeric_limits<double>::quiet_NaN());
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
+  auto* flow = vtkStringArray::SafeDownCast(mesh->GetFieldData()->GetAbstractArray("FlowStateArrays"));
+  vtkIntArray* ids = vtkIntArray::SafeDownCast(mesh->GetPointData()->GetArray("ClusterId"));
+  std::string name = flow && flow->GetNumberOfValues() > 1 ? flow->GetValue(1) : "";
+  vtkSmartPointer<vtkDataArray> jump = mesh->GetPointData()->GetArray(name.c_str());
+  if (!jump && mesh->GetCellData()->GetArray(name.c_str()))
+  {
+    vtkNew<vtkUnstructuredGrid> cells; // a cell field: averaged to the points
+    cells->CopyStructure(mesh);
+    cells->GetCellData()->AddArray(mesh->GetCellData()->GetArray(name.c_str()));
+    vtkNew<vtkCellDataToPointData> toPoints;
+    toPoints->SetInputData(cells);
+    toPoints->Update();
+    jump = toPoints->GetOutput()->GetPointData()->GetArray(name.c_str());
+  }
+  vtkARMeshKernels::MeshView view;
+  std::string error;
+  double usable = jump && ids && jump->GetNumberOfComponents() == 1 && view.Build(mesh, error) ? 1.0 : 0.0;
+  if (usable == 0.0)
+  {
+    view = vtkARMeshKernels::MeshView();
+  }
+  std::vector<int> slot(usable > 0.0 ? mesh->GetNumberOfPoints() : 0, -1);
+  for (std::size_t j = 0; j < chosen.size(); ++j)
+  {
+    for (vtkIdType p = 0; p < static_cast<vtkIdType>(slot.size()); ++p)
+    {
+      if (ids->GetValue(p) == chosen[j])
+      {
+        slot[p] = static_cast<int>(j);
+      }
+    }
+  }
+  std::vector<double> gradient;
+  if (usable > 0.0)
+  {
+    vtkARMeshKernels::CellsToPoints(
+      view, 3,
+      [&](vtkIdType c, double* g, double& weight) {
+        const vtkIdType* pts = view.CellPoints(c);
+        const int n = view.CellSize(c);
+        bool near = false;
+        for (int a = 0; a < n && !near; ++a)
+        {
+          near = slot[pts[a]] >= 0;
+        }
+        double W[vtkARMeshKernels::MaxCellPoints][3];
+        int m;
+        if (!near || !view.IsVolumeCell(c) || !vtkARMeshKernels::GradientOperator(view, c, W, m, weight))
+        {
+          return false;
+        }
+        g[0] = g[1] = g[2] = 0.0;
+        for (int a = 0; a < m; ++a)
+        {
+          const double q = jump->GetComponent(pts[a], 0);
+          for (int k = 0; k < 3; ++k)
+          {
+            g[k] += W[a][k] * q;
+          }
+        }
+        return true;
+      },
+      gradient, nullptr);
+  }
+  for (std::size_t j = 0; j < chosen.size(); ++j)
+  {
+    std::vector<double> local; // gx gy gz |g| per owned node of the cluster
+    for (vtkIdType p = 0; p < static_cast<vtkIdType>(slot.size()); ++p)
+    {
+      if (slot[p] == static_cast<int>(j) && view.IsOwnedPoint(p))
+      {
+        const double* g = &gradient[3 * p];
+        local.insert(local.end(), { g[0], g[1], g[2], std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) });
+      }
+    }
+    const std::vector<double> all = vtkARMeshKernels::GatherOnRoot(local);
+    // [meet, angle, spread, fraction, axis 0, axis 1]: rank 0's, summed.
+    double verdict[10] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
+    const std::size_t n = all.size() / 4;
+    if (root)
+    {
+      // NaN (summed: NaN everywhere) unless computed below
+      verdict[1] = verdict[2] = verdict[3] = std::numeric_limits<double>::quiet_NaN();
+    }
+    if (n >= 2)
+    {
+      std::vector<double> directions(3 * n), weights(n);
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        std::copy(&all[4 * i], &all[4 * i + 3], &directions[3 * i]);
+        weights[i] = all[4 * i + 3];
+      }
+      ar::DirectionFamilies families;
+      if (ar::SplitDirectionFamilies(directions.data(), weights.data(), n, families))
+      {
+        verdict[0] = families.AngleDegrees >= MeetingAngle &&
+            families.AngleDegrees >= MeetingSeparation * families.SpreadDegrees &&
+            families.Fraction >= MeetingFraction
+          ? 1.0
+          : 0.0;
+        verdict[1] = families.AngleDegrees;
+        verdict[2] = families.SpreadDegrees;
+        verdict[3] = families.Fraction;
+        std::copy(families.Axes[0], families.Axes[0] + 3, verdict + 4);
+        std::copy(families.Axes[1], families.Axes[1] + 3, verdict + 7);
+      }
+    }
+    vtkARMeshKernels::AllReduceSum(verdict, 10);
+    std::copy(verdict + 1, verdict + 4, &families[3 * j]);
+    if (verdict[0] > 0.0)
+    {
+      std::ostringstream msg;
+      msg.precision(3);
+      msg << "two shocks meet in cluster " << chosen[j] << " (" << static_cast<long long>(sizes[chosen[j]])
+          << " nodes): the shock normals at its nodes (the gradient of " << name
+          << ") form two families " << verdict[1] << " degrees apart, each within " << verdict[2]
+          << " degrees (median) of its own direction, (" << verdict[4] << ", " << verdict[5] << ", "
+          << verdict[6] << ") and (" << verdict[7] << ", " << verdict[8] << ", " << verdict[9]
+          << "), the smaller holding " << 100.0 * verdict[3]
+          << "% of the cluster. No single plane, cone or quadric follows both, and surfaces that "
+             "meet cannot be embedded together: to adapt to one of them, fit it by hand "
+             "(QuadricFit on the medial points on its side of the line where they meet) and "
+             "remesh with EmbeddedRemesh.";
+      return msg.str();
+    }
+  }
+  return std::string();
+}
+
+/// The owned cells of every rank's piece in one mesh on rank 0 (ghost cells
+/// dropped, the points the pieces share merged: exact duplicates only); an
+/// empty mesh on the other ranks. Collective.
+vtkSmartPointer<vtkUnstructuredGrid> GatherVolumeOnRoot(vtkUnstructuredGrid* piece)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  vtkNew<vtkUnstructuredGrid> owned;
+  owned->DeepCopy(piece);
+  owned->RemoveGhostCells();
+  owned->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  std::vector<vtkSmartPointer<vtkDataObject>> parts;
+  ctrl->Gather(owned, parts, 0);
+  auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  if (ctrl->GetLocalProcessId() == 0)
+  {
+    vtkNew<vtkAppendFilter> merge;
+    merge->MergePointsOn();
+    merge->SetTolerance(0.0);
+    for (auto& part : parts)
+    {
+      auto* grid = vtkUnstructuredGrid::SafeDownCast(part);
+      if (grid && grid->GetNumberOfCells() > 0)
+      {
+        merge->AddInputData(grid);
+      }
+    }
+    merge->Update();
+    whole->ShallowCopy(merge->GetOutput());
+    whole->GetFieldData()->ShallowCopy(piece->GetFieldData());
+  }
+  return whole;
+}
+}
 
 
 //------------------------------------------------------------------------------
@@ -176,12 +376,25 @@ int vtkAdaptToShocks::RequestData(
   clusters->SetMinimumClusterSize(this->MinimumClusterSize);
   clusters->Update();
   auto* medial = vtkPolyData::SafeDownCast(clusters->GetOutputDataObject(1));
-  vtkDataArray* sizes = medial ? medial->GetFieldData()->GetArray("ClusterSizes") : nullptr;
-  if (!clusters->GetOutput()->GetPointData()->GetArray("FeatureMask") || !sizes)
+  // The cluster sizes are rank 0's (with the medial points): every rank
+  // needs them, to choose the same clusters and take part in each fit.
+  vtkDataArray* sizeArray = medial ? medial->GetFieldData()->GetArray("ClusterSizes") : nullptr;
+  double header[2] = { sizeArray ? 1.0 : 0.0, sizeArray ? static_cast<double>(sizeArray->GetNumberOfTuples()) : 0.0 };
+  header[0] = clusters->GetOutput()->GetPointData()->GetArray("FeatureMask") ? header[0] : -1.0;
+  double missingMask = header[0] < 0.0 ? 1.0 : 0.0;
+  vtkARMeshKernels::AllReduceMax(header, 2);
+  vtkARMeshKernels::AllReduceMax(&missingMask, 1);
+  std::vector<double> sizes(static_cast<std::size_t>(header[1]), 0.0);
+  for (std::size_t k = 0; sizeArray && k < sizes.size(); ++k)
+  {
+    sizes[k] = sizeArray->GetComponent(static_cast<vtkIdType>(k), 0);
+  }
+  vtkARMeshKernels::AllReduceSum(sizes.data(), static_cast<int>(sizes.size()));
+  if (missingMask > 0.0 || header[0] <= 0.0)
   {
     return passThrough("feature clustering could not run (see its message above).");
   }
-  if (sizes->GetNumberOfTuples() == 0)
+  if (sizes.empty())
   {
     vtkDataArray* cells = sensed->GetCellData()->GetArray("ShockCells");
     double shockCells = 0.0;
@@ -198,13 +411,21 @@ int vtkAdaptToShocks::RequestData(
   }
   // The clusters that get a surface (ids are by decreasing size).
   std::vector<int> chosen;
-  const double largest = sizes->GetComponent(0, 0);
-  for (vtkIdType k = 0; k < sizes->GetNumberOfTuples() && static_cast<int>(chosen.size()) < this->MaximumNumberOfSurfaces; ++k)
+  const double largest = sizes[0];
+  for (std::size_t k = 0; k < sizes.size() && static_cast<int>(chosen.size()) < this->MaximumNumberOfSurfaces; ++k)
   {
-    if (sizes->GetComponent(k, 0) >= this->MinimumClusterFraction * largest)
+    if (sizes[k] >= this->MinimumClusterFraction * largest)
     {
       chosen.push_back(static_cast<int>(k));
     }
+  }
+  // Two shocks that meet (an X, a V, a lambda) in one cluster: no template
+  // fits them, and the fit's residual alone does not show it.
+  std::vector<double> families;
+  const std::string meeting = TwoShocksMeet(clusters->GetOutput(), chosen, sizes, families);
+  if (!meeting.empty())
+  {
+    return passThrough(meeting);
   }
   const double secondsClusters = lap();
   this->UpdateProgress(0.35);
@@ -233,7 +454,7 @@ int vtkAdaptToShocks::RequestData(
     vtkARMeshKernels::AllReduceMax(&have, 1); // the surface is on rank 0 under MPI
     if (have == 0.0)
     {
-      fitProblems << " cluster " << k << " (" << sizes->GetComponent(k, 0) << " nodes)";
+      fitProblems << " cluster " << k << " (" << sizes[k] << " nodes)";
       continue;
     }
     auto copy = vtkSmartPointer<vtkPolyData>::New();
@@ -302,7 +523,7 @@ int vtkAdaptToShocks::RequestData(
       if (crossed >= 0)
       {
         vtkWarningMacro(<< "AdaptToShocks: the surface of cluster " << fittedCluster[i] << " ("
-                        << sizes->GetComponent(fittedCluster[i], 0) << " nodes) crosses the surface of cluster "
+                        << sizes[fittedCluster[i]] << " nodes) crosses the surface of cluster "
                         << fittedCluster[crossed] << " and is left out.");
         continue;
       }
@@ -335,9 +556,37 @@ int vtkAdaptToShocks::RequestData(
   const double secondsFit = lap();
   this->UpdateProgress(0.5);
 
-  // ---- 4. The remeshing with every surface embedded.
+  // ---- 4. The remeshing with every surface embedded. EmbeddedRemesh
+  // distributes tetrahedral meshes only: under MPI a hybrid or one-cell-deep
+  // volume (the 2-D mode) is gathered to rank 0 and remeshed there alone.
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  const bool distributed = ctrl && ctrl->GetNumberOfProcesses() > 1;
+  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
+  vtkSmartPointer<vtkDataObject> remeshInput = input;
+  bool alone = false;
+  if (distributed && vtkUnstructuredGrid::SafeDownCast(input))
+  {
+    double other = 0.0;
+    for (vtkIdType c = 0; c < volume->GetNumberOfCells() && other == 0.0; ++c)
+    {
+      other = volume->GetCellType(c) != VTK_TETRA ? 1.0 : 0.0;
+    }
+    vtkARMeshKernels::AllReduceMax(&other, 1);
+    if (other > 0.0)
+    {
+      alone = true;
+      remeshInput = GatherVolumeOnRoot(volume);
+      if (root)
+      {
+        vtkWarningMacro(<< "AdaptToShocks: the mesh is not tetrahedral (hybrid, or one cell deep): it is "
+                           "gathered to rank 0 ("
+                        << vtkUnstructuredGrid::SafeDownCast(remeshInput)->GetNumberOfCells()
+                        << " cells) and remeshed there; the other ranks' outputs are empty.");
+      }
+    }
+  }
   vtkNew<vtkEmbeddedRemesh> remesh;
-  remesh->SetInputData(input);
+  remesh->SetInputData(remeshInput);
   for (const auto& s : fitted)
   {
     remesh->AddSurfaceData(s);
@@ -349,22 +598,73 @@ int vtkAdaptToShocks::RequestData(
   remesh->SetNumberOfLayers(this->NumberOfLayers);
   remesh->SetRemovalFactor(this->RemovalFactor);
   remesh->SetInterpolateFields(this->InterpolateFields);
-  remesh->Update();
+  if (!alone)
+  {
+    remesh->Update();
+  }
+  else if (root)
+  {
+    // EmbeddedRemesh runs its distributed path whenever the global
+    // controller has several processes: for its run on rank 0 alone, the
+    // global controller is one process, and is given back right after.
+    vtkNew<vtkDummyController> one;
+    vtkMultiProcessController::SetGlobalController(one);
+    remesh->Update();
+    vtkMultiProcessController::SetGlobalController(ctrl);
+  }
   vtkDataObject* adapted = remesh->GetOutputDataObject(0);
   vtkUnstructuredGrid* adaptedVolume = vtkEmbeddedRemesh::VolumeLeaf(adapted);
-  if (!adaptedVolume || !adaptedVolume->GetCellData()->GetArray("Region"))
+  double remeshed = adaptedVolume && adaptedVolume->GetCellData()->GetArray("Region") ? 1.0 : 0.0;
+  if (alone)
+  {
+    vtkARMeshKernels::AllReduceMax(&remeshed, 1); // rank 0's
+  }
+  if (remeshed == 0.0)
   {
     return passThrough("the remeshing failed (see EmbeddedRemesh's message above).");
   }
+  if (alone)
+  {
+    // Every rank gets rank 0's field data (as EmbeddedRemesh's distributed
+    // path gives it); the other ranks' meshes are empty.
+    vtkNew<vtkUnstructuredGrid> carrier;
+    if (root)
+    {
+      carrier->GetFieldData()->ShallowCopy(adaptedVolume->GetFieldData());
+    }
+    ctrl->Broadcast(carrier, 0);
+    if (!root)
+    {
+      vtkNew<vtkUnstructuredGrid> empty;
+      empty->GetFieldData()->ShallowCopy(carrier->GetFieldData());
+      output->ShallowCopy(empty);
+      surfaces->ShallowCopy(append->GetOutput());
+    }
+  }
   const double secondsRemesh = lap();
 
-  output->ShallowCopy(adapted);
-  surfaces->ShallowCopy(append->GetOutput());
-  vtkUnstructuredGrid* outVolume = vtkEmbeddedRemesh::VolumeLeaf(output);
+  if (!alone || root)
+  {
+    output->ShallowCopy(adapted);
+    surfaces->ShallowCopy(append->GetOutput());
+  }
+  vtkUnstructuredGrid* outVolume = vtkUnstructuredGrid::SafeDownCast(output);
+  outVolume = outVolume ? outVolume : vtkEmbeddedRemesh::VolumeLeaf(output);
   vtkFieldData* fd = outVolume->GetFieldData();
   const double count = static_cast<double>(fitted.size());
   fd->AddArray(vtkARMeshKernels::FieldArray("NumberOfSurfaces", &count, 1));
   fd->AddArray(templates);
+  // Per cluster that got a surface, before the crossing check: its shock
+  // normals' two families (angle, median spread in degrees, lighter
+  // family's fraction), the two-shocks-meet check's measures.
+  auto normalFamilies = vtkARMeshKernels::FieldArray("NormalFamilies", families.data(), static_cast<int>(families.size()));
+  normalFamilies->SetNumberOfComponents(3);
+  normalFamilies->SetNumberOfTuples(static_cast<vtkIdType>(chosen.size()));
+  for (std::size_t i = 0; i < families.size(); ++i)
+  {
+    normalFamilies->SetValue(static_cast<vtkIdType>(i), families[i]);
+  }
+  fd->AddArray(normalFamilies);
   fd->AddArray(vtkARMeshKernels::FieldArray("SecondsSensor", &secondsSensor, 1));
   fd->AddArray(vtkARMeshKernels::FieldArray("SecondsClusters", &secondsClusters, 1));
   fd->AddArray(vtkARMeshKernels::FieldArray("SecondsFit", &secondsFit, 1));

@@ -26,13 +26,22 @@
  * data, plus NumberOfSurfaces, the string array SurfaceTemplates and the
  * seconds of each stage: SecondsSensor, SecondsClusters, SecondsFit,
  * SecondsRemesh). Output port 1: all fitted surfaces in one vtkPolyData with
- * the cell array SurfaceId (0, 1, ... in cluster order).
+ * the cell array SurfaceId (0, 1, ... in cluster order). Field data
+ * NormalFamilies (3 components, one tuple per cluster that gets a surface):
+ * the angle in degrees between the two families of its shock normals, their
+ * median spread in degrees and the lighter family's weight fraction (the
+ * measures of the two-shocks-meet check below).
  *
  * Errors (vtkErrorMacro naming the stage and the cause; the underlying
  * filter's own message comes first; output 0 = the input unchanged, output 1
  * empty): no flow state among the arrays, no shock (no cluster), no surface
  * that could be fitted, a remeshing failure (e.g. two fitted surfaces that
- * cross), bad properties.
+ * cross), bad properties, two shocks that meet in one cluster (an X, a V, a
+ * lambda: the shock normals at the cluster's nodes, the gradient of the
+ * sensor's pressure or density weighted by its magnitude, form two
+ * families at least 10 degrees and 8 times their median spread apart, the
+ * lighter with at least 10% of the weight; no single template follows them
+ * and EmbeddedRemesh cannot embed surfaces that meet).
  */
 #ifndef vtkAdaptToShocks_h
 #define vtkAdaptToShocks_h

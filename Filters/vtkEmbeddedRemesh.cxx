@@ -1575,6 +1575,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   // Rank 0: the result's points in the output (kept input points by
   // coordinates, the others appended with their G point or -1 when new).
   std::vector<vtkIdType> outOfResult(result.SourcePoint.size(), -1), gSource;
+  double newNodes = 0.0; // points of the refill that are no input point (rank 0)
   std::vector<char> needed(result.SourcePoint.size(), 0);
   for (std::size_t t = 0; t < result.SourceCell.size(); ++t)
   {
@@ -1607,6 +1608,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     }
     outOfResult[i] = points->InsertNextPoint(x);
     gSource.push_back(result.SourcePoint[i]);
+    newNodes += result.SourcePoint[i] < 0 ? 1.0 : 0.0;
   }
   const vtkIdType nOut = points->GetNumberOfPoints();
 
@@ -1787,9 +1789,26 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   vtkARMeshKernels::AllReduceSum(volumes, 2);
   vtkARMeshKernels::AllReduceSum(&surfaceTriangles, 1);
   vtkARMeshKernels::AllReduceSum(&removedNodes, 1);
+  // The node counts, as the serial run gives them: the input's nodes, each
+  // counted by the rank that owns it (not a ghost copy of another rank's
+  // point); every node not removed is kept, so the output has the input's
+  // less the removed ones plus the new ones.
+  double inputNodes = 0.0;
+  {
+    vtkUnsignedCharArray* pointGhosts = input->GetPointGhostArray();
+    for (vtkIdType v = 0; v < nPoints; ++v)
+    {
+      inputNodes += pointGhosts && (pointGhosts->GetValue(v) & vtkDataSetAttributes::DUPLICATEPOINT) ? 0.0 : 1.0;
+    }
+  }
+  vtkARMeshKernels::AllReduceSum(&inputNodes, 1);
+  vtkARMeshKernels::AllReduceSum(&newNodes, 1);
   auto field = [&](const char* name, double value) {
     output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
   };
+  field("InputNodes", inputNodes);
+  field("NewNodes", newNodes);
+  field("OutputNodes", inputNodes - removedNodes + newNodes);
   field("KeptCells", kept);
   field("NewCells", quality.NewCells + quality.NewPrisms + quality.NewPyramids + quality.NewLayerTetrahedra);
   field("RemovedNodes", removedNodes);

@@ -3,6 +3,15 @@
 #include "vtkARSolverMesh.h"
 
 #include "vtkAlgorithm.h"
+#include "vtkAppendFilter.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkFieldData.h"
+#include "vtkInformationVector.h"
+#include "vtkMultiProcessController.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnstructuredGrid.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
@@ -1403,7 +1412,178 @@ int vtkOpenFOAMCaseWriter::FillInputPortInformation(int, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+/// This rank's cells without the ghost copies of other ranks' cells, and
+/// without the ghost arrays.
+vtkSmartPointer<vtkUnstructuredGrid> OwnedCells(vtkDataSet* piece)
+{
+  auto owned = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(piece))
+  {
+    owned->DeepCopy(grid);
+  }
+  else if (piece)
+  {
+    vtkNew<vtkAppendFilter> asGrid; // any other dataset as an unstructured grid
+    asGrid->AddInputData(piece);
+    asGrid->Update();
+    owned->DeepCopy(asGrid->GetOutput());
+  }
+  owned->RemoveGhostCells();
+  owned->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  return owned;
+}
+
+/// The union of the ranks' pieces (each dataset leaf merged with the same
+/// leaf of the other ranks, the points the pieces share merged: exact
+/// duplicates), on rank 0; nullptr on the other ranks. A multiblock keeps
+/// rank 0's structure and block names. Collective.
+vtkSmartPointer<vtkDataObject> GatherOnRoot(vtkMultiProcessController* ctrl, vtkDataObject* input)
+{
+  vtkSmartPointer<vtkDataObject> local;
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  {
+    local.TakeReference(composite->NewInstance());
+    local->ShallowCopy(composite);
+    auto* out = vtkCompositeDataSet::SafeDownCast(local);
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      out->SetDataSet(it, OwnedCells(vtkDataSet::SafeDownCast(it->GetCurrentDataObject())));
+    }
+  }
+  else
+  {
+    local = OwnedCells(vtkDataSet::SafeDownCast(input));
+    local->GetFieldData()->ShallowCopy(input ? input->GetFieldData() : nullptr);
+  }
+  std::vector<vtkSmartPointer<vtkDataObject>> parts;
+  ctrl->Gather(local, parts, 0);
+  if (ctrl->GetLocalProcessId() != 0)
+  {
+    return nullptr;
+  }
+  auto merge = [](const std::vector<vtkDataSet*>& pieces) {
+    vtkNew<vtkAppendFilter> append;
+    append->MergePointsOn();
+    append->SetTolerance(0.0);
+    for (vtkDataSet* p : pieces)
+    {
+      if (p && p->GetNumberOfCells() > 0)
+      {
+        append->AddInputData(p);
+      }
+    }
+    auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    if (append->GetNumberOfInputConnections(0) > 0)
+    {
+      append->Update();
+      whole->ShallowCopy(append->GetOutput());
+    }
+    return whole;
+  };
+  if (vtkCompositeDataSet::SafeDownCast(local))
+  {
+    auto* out = vtkCompositeDataSet::SafeDownCast(parts[0]);
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(out->NewIterator());
+    it->SkipEmptyNodesOff();
+    std::vector<std::pair<unsigned int, vtkSmartPointer<vtkUnstructuredGrid>>> merged;
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      std::vector<vtkDataSet*> pieces;
+      for (auto& part : parts)
+      {
+        auto* other = vtkCompositeDataSet::SafeDownCast(part);
+        pieces.push_back(other ? vtkDataSet::SafeDownCast(other->GetDataSet(it)) : nullptr);
+      }
+      // a leaf another rank fills may be empty on rank 0
+      if (std::any_of(pieces.begin(), pieces.end(), [](vtkDataSet* p) { return p != nullptr; }))
+      {
+        merged.emplace_back(it->GetCurrentFlatIndex(), merge(pieces));
+      }
+    }
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      for (auto& m : merged)
+      {
+        if (m.first == it->GetCurrentFlatIndex())
+        {
+          out->SetDataSet(it, m.second);
+        }
+      }
+    }
+    return parts[0];
+  }
+  std::vector<vtkDataSet*> pieces;
+  for (auto& part : parts)
+  {
+    pieces.push_back(vtkDataSet::SafeDownCast(part));
+  }
+  vtkSmartPointer<vtkUnstructuredGrid> whole = merge(pieces);
+  whole->GetFieldData()->ShallowCopy(parts[0]->GetFieldData());
+  return whole;
+}
+}
+
+//------------------------------------------------------------------------------
+vtkTypeBool vtkOpenFOAMCaseWriter::ProcessRequest(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (request->Has(vtkStreamingDemandDrivenPipeline::REQUEST_UPDATE_EXTENT()))
+  {
+    return this->RequestUpdateExtent(request, inputVector, outputVector);
+  }
+  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
+int vtkOpenFOAMCaseWriter::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // Under MPI each rank asks for its own piece (without ghost cells): the
+  // pieces are gathered and written by rank 0.
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  const int ranks = ctrl ? ctrl->GetNumberOfProcesses() : 1;
+  vtkInformation* in = inputVector[0]->GetInformationObject(0);
+  if (in && ranks > 1)
+  {
+    in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), ctrl->GetLocalProcessId());
+    in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), ranks);
+    in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 void vtkOpenFOAMCaseWriter::WriteData()
+{
+  this->SetErrorCode(vtkErrorCode::NoError);
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (ctrl && ctrl->GetNumberOfProcesses() > 1)
+  {
+    // Distributed (pvbatch, pvserver): the pieces go to rank 0, which writes
+    // the case as the serial run would (the same mesh, points merged where
+    // the pieces meet, numbered rank by rank).
+    vtkSmartPointer<vtkDataObject> whole = GatherOnRoot(ctrl, this->GetInput());
+    double code = 0.0;
+    if (whole)
+    {
+      this->WriteCase(whole);
+      code = static_cast<double>(this->GetErrorCode());
+    }
+    ctrl->Broadcast(&code, 1, 0); // every rank reports rank 0's outcome
+    this->SetErrorCode(static_cast<unsigned long>(code));
+    return;
+  }
+  this->WriteCase(this->GetInput());
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenFOAMCaseWriter::WriteCase(vtkDataObject* input)
 {
   this->SetErrorCode(vtkErrorCode::NoError);
   const std::string path = this->FileName ? this->FileName : "";
@@ -1478,8 +1658,8 @@ void vtkOpenFOAMCaseWriter::WriteData()
   }
 
   // ---- Mesh, source case, fields.
-  const unsigned long code = vtkARSolverMesh::Prepare(this, "OpenFOAMCaseWriter", path,
-    this->GetInput(), this->DefaultPatchName, this->PointMatchingTolerance, job.Mesh);
+  const unsigned long code = vtkARSolverMesh::Prepare(this, "OpenFOAMCaseWriter", path, input,
+    this->DefaultPatchName, this->PointMatchingTolerance, job.Mesh, /*gathered=*/true);
   if (code != vtkErrorCode::NoError)
   {
     this->SetErrorCode(code);

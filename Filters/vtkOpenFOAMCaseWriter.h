@@ -79,8 +79,14 @@
  * Source case errors: no (or unreadable) constant/polyMesh/boundary, a
  * SourceTime that does not exist, a field file in binary or compressed
  * form (foamFormatConvert / gunzip it), a malformed dictionary, an input
- * array whose components do not fit its field's class. Serial: refuses under
- * MPI with more than one rank.
+ * array whose components do not fit its field's class.
+ *
+ * Under MPI (pvbatch, pvserver; the proxy is registered with
+ * supports_parallel): each rank asks for its own piece, drops its ghost
+ * cells and sends it to rank 0, which merges the pieces (leaf by leaf for a
+ * multiblock; the points where they meet merged, exact duplicates) and
+ * writes the case as the serial run would, its points and cells numbered
+ * rank by rank. Every rank's ErrorCode is rank 0's.
  */
 #ifndef vtkOpenFOAMCaseWriter_h
 #define vtkOpenFOAMCaseWriter_h
@@ -143,7 +149,13 @@ protected:
   ~vtkOpenFOAMCaseWriter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  vtkTypeBool ProcessRequest(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+  /// Under MPI, each rank's own piece without ghost cells.
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
   void WriteData() override;
+  /// The case from `input` (the whole mesh; rank 0's gathered one under MPI).
+  void WriteCase(vtkDataObject* input);
 
 private:
   vtkOpenFOAMCaseWriter(const vtkOpenFOAMCaseWriter&) = delete;

@@ -60,32 +60,6 @@ vtkMultiProcessController* Controller()
   return (c && c->GetNumberOfProcesses() > 1) ? c : nullptr;
 }
 
-/// Concatenates every rank's `local` on rank 0 (returns `local` in serial).
-std::vector<double> GatherOnRoot(const std::vector<double>& local)
-{
-  vtkMultiProcessController* ctrl = Controller();
-  if (!ctrl)
-  {
-    return local;
-  }
-  const int np = ctrl->GetNumberOfProcesses();
-  double mine = static_cast<double>(local.size());
-  std::vector<double> counts(np, 0.0);
-  ctrl->Gather(&mine, counts.data(), 1, 0);
-  std::vector<vtkIdType> lengths(np, 0), offsets(np, 0);
-  vtkIdType total = 0;
-  for (int r = 0; r < np; ++r)
-  {
-    lengths[r] = static_cast<vtkIdType>(counts[r]);
-    offsets[r] = total;
-    total += lengths[r];
-  }
-  std::vector<double> all(ctrl->GetLocalProcessId() == 0 ? total : 0);
-  ctrl->GatherV(local.data(), all.data(), static_cast<vtkIdType>(local.size()), lengths.data(),
-    offsets.data(), 0);
-  return all;
-}
-
 /// Median of a non-empty vector (the vector is reordered).
 double Median(std::vector<double>& v)
 {
@@ -358,7 +332,7 @@ int vtkQuadricFit::RequestData(
     }
     return 1;
   }
-  const std::vector<double> packed = GatherOnRoot(local);
+  const std::vector<double> packed = vtkARMeshKernels::GatherOnRoot(local);
   vtkSmartPointer<vtkPolyData> boundary;
   if (hasDomain)
   {

@@ -1582,4 +1582,105 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
   error = "internal: no template within the bound"; // unreachable: the best one is within it
   return false;
 }
+
+//------------------------------------------------------------------------------
+bool SplitDirectionFamilies(const double* directions, const double* weights, std::size_t n,
+  DirectionFamilies& result)
+{
+  std::vector<Eigen::Vector3d> d;
+  std::vector<double> w;
+  d.reserve(n);
+  w.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const Eigen::Vector3d v(directions[3 * i], directions[3 * i + 1], directions[3 * i + 2]);
+    const double len = v.norm();
+    if (len > 0.0 && std::isfinite(len) && weights[i] > 0.0 && std::isfinite(weights[i]))
+    {
+      d.push_back(v / len);
+      w.push_back(weights[i]);
+    }
+  }
+  if (d.size() < 2)
+  {
+    return false;
+  }
+  // The principal axis (eigenvalues ascending) of a weighted scatter.
+  auto principal = [](const Eigen::Matrix3d& scatter, Eigen::Vector3d& values, Eigen::Matrix3d& vectors) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
+    values = eig.eigenvalues();
+    vectors = eig.eigenvectors();
+  };
+  Eigen::Matrix3d all = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < d.size(); ++i)
+  {
+    all += w[i] * d[i] * d[i].transpose();
+  }
+  Eigen::Vector3d values;
+  Eigen::Matrix3d vectors;
+  principal(all, values, vectors);
+  // Two equal families at +-a about e1 in the (e1, e2) plane give the
+  // scatter's two largest eigenvalues in the ratio cos^2 a : sin^2 a.
+  const Eigen::Vector3d e1 = vectors.col(2), e2 = vectors.col(1);
+  const double a = std::atan(std::sqrt(std::max(values(1), 0.0) / std::max(values(2), 1e-300)));
+  Eigen::Vector3d axis[2] = { std::cos(a) * e1 + std::sin(a) * e2, std::cos(a) * e1 - std::sin(a) * e2 };
+  std::vector<int> family(d.size(), -1);
+  for (int iteration = 0; iteration < 100; ++iteration)
+  {
+    bool changed = false;
+    Eigen::Matrix3d scatter[2] = { Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero() };
+    double mass[2] = { 0.0, 0.0 };
+    for (std::size_t i = 0; i < d.size(); ++i)
+    {
+      const int f = std::abs(d[i].dot(axis[1])) > std::abs(d[i].dot(axis[0])) ? 1 : 0;
+      changed = changed || f != family[i];
+      family[i] = f;
+      scatter[f] += w[i] * d[i] * d[i].transpose();
+      mass[f] += w[i];
+    }
+    if (!changed)
+    {
+      break;
+    }
+    for (int f = 0; f < 2; ++f)
+    {
+      if (mass[f] > 0.0)
+      {
+        principal(scatter[f], values, vectors);
+        axis[f] = vectors.col(2);
+      }
+    }
+  }
+  double mass[2] = { 0.0, 0.0 };
+  std::vector<std::pair<double, double>> angles(d.size()); // (angle from the own axis, weight)
+  for (std::size_t i = 0; i < d.size(); ++i)
+  {
+    mass[family[i]] += w[i];
+    angles[i] = { std::acos(std::min(1.0, std::abs(d[i].dot(axis[family[i]])))), w[i] };
+  }
+  std::sort(angles.begin(), angles.end());
+  const double total = mass[0] + mass[1];
+  double below = 0.0, median = angles.back().first;
+  for (const auto& aw : angles)
+  {
+    below += aw.second;
+    if (below >= 0.5 * total)
+    {
+      median = aw.first;
+      break;
+    }
+  }
+  const double degrees = 180.0 / 3.14159265358979323846;
+  for (int f = 0; f < 2; ++f)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      result.Axes[f][k] = axis[f](k);
+    }
+  }
+  result.AngleDegrees = std::acos(std::min(1.0, std::abs(axis[0].dot(axis[1])))) * degrees;
+  result.SpreadDegrees = median * degrees;
+  result.Fraction = std::min(mass[0], mass[1]) / total;
+  return true;
+}
 }

@@ -205,6 +205,34 @@ struct SurfaceMesh
 bool TessellateSurface(const SurfaceFitResult& fit, const double* points, std::size_t n,
   double edgeLength, double reach, SurfaceMesh& mesh, std::string& error,
   std::size_t maxTriangles = 4000000);
+
+/// Two families of directions (sign-free axes): see SplitDirectionFamilies.
+struct DirectionFamilies
+{
+  double Axes[2][3] = { { 0, 0, 0 }, { 0, 0, 0 } }; ///< unit axis of each family
+  double AngleDegrees = 0.0;  ///< between the two axes, in [0, 90]
+  double SpreadDegrees = 0.0; ///< weighted median angle of a direction from its family's axis
+  double Fraction = 0.0;      ///< weight of the lighter family over the total, in [0, 0.5]
+};
+
+/**
+ * Splits n weighted directions (x y z each, not necessarily unit; the sign
+ * is ignored: d and -d are the same axis) into the two families that best
+ * explain them, by 2-means on axes: each direction goes to the axis it is
+ * closer to, each axis is the principal eigenvector of its family's
+ * weighted scatter (sum of w d d^T / |d|^2, Eigen's self-adjoint solver),
+ * starting from the two axes of two equal families with the scatter of all
+ * the directions. Directions of zero length or weight are ignored.
+ *
+ * A single family (one plane shock) split in two gives two close axes; a
+ * continuous one (a cone's normals round its axis, a curved shock's) gives
+ * families about as wide as they are apart (a uniform arc splits into
+ * halves whose axes are 4 times their median spread apart; a Gaussian
+ * about 3 times); two surfaces that meet give two tight families far
+ * apart. Returns false if fewer than two directions count.
+ */
+bool SplitDirectionFamilies(const double* directions, const double* weights, std::size_t n,
+  DirectionFamilies& result);
 }
 
 #endif

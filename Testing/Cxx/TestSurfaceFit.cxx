@@ -775,3 +775,56 @@ TEST(SurfaceFit, AutomaticTemplateOnAOneCellDeepBand)
   // 0.01 apart; EmbeddedRemesh's 2-D mode cuts S at mid-depth).
   EXPECT_LT(AngleDeg({ r.Normal[0], r.Normal[1], 0.0 }, Unit({ -0.45, 1.0, 0.0 })), 0.2);
 }
+
+// Two families of directions (the two-shocks-meet check of AdaptToShocks):
+// two tight families 35 degrees apart are found with their angle and a small
+// spread, signs ignored; one family gives close axes; a cone's normals (a
+// continuous arc) split into halves at most 4 times their spread apart.
+TEST(SurfaceFit, DirectionFamilies)
+{
+  std::mt19937 rng(5);
+  std::normal_distribution<double> jitter(0.0, 0.01);
+  auto unit = [](double theta, double phi) {
+    return V{ std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta) };
+  };
+  std::vector<double> d, w;
+  auto add = [&](const V& v, double weight, double sign) {
+    for (int k = 0; k < 3; ++k)
+    {
+      d.push_back(sign * v[k] + jitter(rng));
+    }
+    w.push_back(weight);
+  };
+  // two families: 300 and 200 directions at 0.3 and 0.3 + 35 degrees from z
+  for (int i = 0; i < 500; ++i)
+  {
+    add(unit((i < 300 ? 0.3 : 35.3) * Pi / 180.0, 0.4), 1.0 + (i % 3), i % 2 ? 1.0 : -1.0);
+  }
+  ar::DirectionFamilies f;
+  ASSERT_TRUE(ar::SplitDirectionFamilies(d.data(), w.data(), w.size(), f));
+  EXPECT_NEAR(f.AngleDegrees, 35.0, 0.5);
+  EXPECT_LT(f.SpreadDegrees, 1.5);
+  EXPECT_NEAR(f.Fraction, 0.4, 0.02);
+  // one family
+  d.clear();
+  w.clear();
+  for (int i = 0; i < 500; ++i)
+  {
+    add(unit(0.5, 1.0), 1.0, i % 2 ? 1.0 : -1.0);
+  }
+  ASSERT_TRUE(ar::SplitDirectionFamilies(d.data(), w.data(), w.size(), f));
+  EXPECT_LT(f.AngleDegrees, 3.0);
+  // a cone's normals round its axis over a quarter turn: a continuous family
+  d.clear();
+  w.clear();
+  for (int i = 0; i < 900; ++i)
+  {
+    add(unit(60.0 * Pi / 180.0, 0.5 * Pi * i / 899.0), 1.0, 1.0);
+  }
+  ASSERT_TRUE(ar::SplitDirectionFamilies(d.data(), w.data(), w.size(), f));
+  EXPECT_GT(f.AngleDegrees, 30.0);
+  EXPECT_LT(f.AngleDegrees, 4.2 * f.SpreadDegrees);
+  // nothing to split
+  const double one[3] = { 1.0, 0.0, 0.0 }, weight = 1.0;
+  EXPECT_FALSE(ar::SplitDirectionFamilies(one, &weight, 1, f));
+}

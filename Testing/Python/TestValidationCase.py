@@ -18,6 +18,10 @@ Asserts, on the adapted mesh and the first fitted surface (port 1):
   (SurfaceSizeRatio <= 1/3);
 - every new tetrahedron's smallest dihedral angle (in 2-D: every new
   triangle's smallest angle) at least 10 degrees;
+- the new cells within two requested sizes of the surface at least half
+  the requested size (SurfaceEdgeLength; a cell's size: the edge of the
+  regular tetrahedron or equilateral triangle of its volume), so the
+  explicit solver's time step follows the refinement asked for;
 - the usual validity (artest.check_valid_mesh): positive corner Jacobians,
   conforming, the boundary the input's face for face, watertight, volume to
   1e-9;
@@ -75,6 +79,40 @@ two_d = f(out, "TwoDimensional") == 1
 worst = f(out, "MinTriangleAngleNew") if two_d else f(out, "MinDihedralAngleNew")
 check(worst >= 10.0, "%s: the smallest angle of the new %s is %.1f deg (at least 10)"
       % (case, "triangles" if two_d else "tetrahedra", worst))
+# The new cells near the shock are no smaller than about half the requested
+# size (SurfaceEdgeLength), so the explicit solver's time step follows the
+# refinement asked for, not a stray small cell: each new cell within two
+# requested sizes of the fitted surface, as the edge of the regular
+# tetrahedron (in 2-D: equilateral triangle) of its volume.
+from vtkmodules.vtkCommonDataModel import vtkCellLocator, vtkCellTypes
+from vtkmodules.vtkFiltersCore import vtkCellCenters
+from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
+from vtkmodules.util.numpy_support import vtk_to_numpy
+import vtk
+size = vtkCellSizeFilter()
+size.SetInputData(out.VTKObject)
+size.Update()
+volume = vtk_to_numpy(size.GetOutput().GetCellData().GetArray("Volume"))
+centres = vtkCellCenters()
+centres.SetInputData(out.VTKObject)
+centres.Update()
+C = vtk_to_numpy(centres.GetOutput().GetPoints().GetData())
+locator = vtkCellLocator()
+locator.SetDataSet(surf.VTKObject)
+locator.BuildLocator()
+requested = f(out, "SurfaceEdgeLength")
+P1 = np.asarray(out.Points, dtype=np.float64)
+depth = np.ptp(P1[:, 2]) if two_d else None
+ratios = []
+for c in np.where(np.asarray(out.CellData["Region"]) == 1)[0]:
+    closest, cell, sub, d2 = [0.0, 0.0, 0.0], vtk.reference(0), vtk.reference(0), vtk.reference(0.0)
+    locator.FindClosestPoint(C[c], closest, cell, sub, d2)
+    if d2.get() <= (2 * requested) ** 2:
+        edge = np.sqrt(4 * volume[c] / depth / np.sqrt(3)) if two_d else (6 * np.sqrt(2) * volume[c]) ** (1 / 3)
+        ratios.append(edge / requested)
+check(len(ratios) > 0 and min(ratios) >= 0.5,
+      "%s: the %d new cells near the shock are at least half the requested size %.4g (min %.2f, 1%% %.2f, "
+      "median %.2f of it)" % (case, len(ratios), requested, min(ratios), np.percentile(ratios, 1), np.median(ratios)))
 artest.check_valid_mesh(case, src, out)
 artest.say("%s: nodes %d -> %d (%d new, %d removed), cells %d -> %d"
            % (case, f(out, "InputNodes"), f(out, "OutputNodes"), f(out, "NewNodes"), f(out, "RemovedNodes"),

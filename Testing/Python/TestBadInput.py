@@ -10,6 +10,8 @@ data through paraview.simple with the filters' own properties:
   0.5 and the other out-of-range properties are refused with the property,
   its value and its range (they were clamped silently), and the ranges
   agree with the XML's domains.
+- std::bad_alloc thrown by the core (a child pvpython whose address space is
+  limited) is an error and the process ends normally: it used to abort.
 - NaN coordinates: in the volume (ShockSensor, EmbeddedRemesh), in the
   feature surface in 2-D mode (EmbeddedRemesh) and in SmoothSurface's input:
   an error naming the first bad point, the input passed through (SmoothSurface
@@ -114,6 +116,15 @@ expected = area / (np.sqrt(3.0) / 4.0 * 1e-9 ** 2)
 check(m is not None and abs(float(m.group(1)) / expected - 1) < 0.01,
       "SurfaceEdgeLength 1e-9: %s surface triangles estimated (area %.3f / (sqrt(3)/4 h^2) = %.3e)"
       % (m.group(1) if m else "no", area, expected))
+# std::bad_alloc in the core (a job under the cap, in a process whose address
+# space is limited to 10 MB more than it holds): an error, not an abort.
+rc, log = artest.run([artest.require_program("pvpython", "paraview"), "--force-offscreen-rendering",
+                      os.path.join(os.path.dirname(os.path.abspath(__file__)), "BadInputMemoryLimit.py"), "10"])
+cells = re.search(r"INPUT CELLS (\d+) OUTPUT CELLS (\d+)", log)
+check(rc == 0 and "EmbeddedRemesh ran out of memory (std::bad_alloc)" in log
+      and cells is not None and cells.group(1) == cells.group(2),
+      "std::bad_alloc in the core: reported as an error, the input passed through, the process ends normally "
+      "(exit %d)" % rc)
 # A fine automatic size (SurfaceSizeFactor) is refused the same way, naming that property.
 refused_remesh("SurfaceSizeFactor 0.003", oblique, [plane],
                ["SurfaceSizeFactor is 0.003", "would not fit in memory", "Raise SurfaceSizeFactor"],

@@ -155,8 +155,8 @@ std::string NonFiniteMessage(vtkIdType first, vtkIdType count, const double x[3]
     return std::string();
   }
   std::ostringstream msg;
-  msg << "Point " << first << " of " << what << " has a NaN or Inf coordinate (" << x[0] << ", " << x[1]
-      << ", " << x[2] << ")";
+  msg << "Point " << first << " of " << what << " has a non-finite coordinate (NaN or Inf): (" << x[0] << ", "
+      << x[1] << ", " << x[2] << ")";
   if (count > 1)
   {
     msg << ", and " << (count - 1) << " more point" << (count > 2 ? "s" : "") << " too";

@@ -58,8 +58,9 @@ public:
   static vtkIdType FirstNonFinitePoint(const double* xyz, vtkIdType n);
 
   /// "" when every point of `data` (a vtkPointSet; other datasets are
-  /// fine) is finite, else "Point 17 of <what> has a NaN or Inf coordinate
-  /// (nan, 0.25, 0) [and N more points]. " — `what` e.g. "the volume mesh".
+  /// fine) is finite, else "Point 17 of <what> has a non-finite coordinate
+  /// (NaN or Inf): (nan, 0.25, 0)[, and N more points too]: every coordinate
+  /// must be finite. " — `what` e.g. "the volume mesh".
   static std::string NonFinitePoints(vtkDataSet* data, const char* what);
   static std::string NonFinitePoints(const double* xyz, vtkIdType n, const char* what);
 

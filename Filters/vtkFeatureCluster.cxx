@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkFeatureCluster.h"
 
+#include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -216,6 +217,10 @@ int vtkFeatureCluster::RequestData(
   }
   const vtkIdType npts = mesh.NumberOfPoints;
   const vtkIdType ncells = mesh.NumberOfCells;
+  problem << vtkARInputChecks::Properties()
+               .InRange("DilationRings", this->DilationRings, 0, 16)
+               .InRange("MinimumClusterSize", this->MinimumClusterSize, 1, VTK_INT_MAX)
+               .Message();
   const bool automaticRange = this->SensorRange[0] == 0.0 && this->SensorRange[1] == 0.0;
   if (!automaticRange && !(this->SensorRange[0] <= this->SensorRange[1]))
   {

@@ -21,6 +21,9 @@ data through paraview.simple with the filters' own properties:
   crack faces, which the test counts itself, and where they are.
 - FeatureCluster with a SensorRange that selects every node: an error that
   gives the sensor's actual span on the mesh.
+- The other filters' former silent clamps (WeightFunction, ShockSensor,
+  FeatureCluster, ExtendToPlane, MedialAxisDelaunay, the Gmsh and SU2
+  writers) and NaN points in ExtendToPlane and TrimSurface: refused by name.
 Each refusal: the message names the cause (and not the old wrong one),
 nothing crashes, and the output is the input passed through.
 """
@@ -160,19 +163,19 @@ n_wedge = artest.fetch(wedge).GetNumberOfPoints()
 nan_wedge = with_nan_point(wedge, 1234)
 sensor, text = run(ShockSensor(Input=nan_wedge, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"],
                                Density=["POINTS", "rho"]))
-check("Point 1234 of the input mesh has a NaN or Inf coordinate" in text,
+check("Point 1234 of the input mesh has a non-finite coordinate (NaN or Inf)" in text,
       "ShockSensor, a NaN point in the wedge: the error names point 1234")
 check("NormalMach" not in sensor.PointData.keys() and sensor.GetNumberOfPoints() == n_wedge,
       "ShockSensor, a NaN point: the input passes through (no NormalMach)")
 _, text = run(WeightFunction(Input=nan_wedge, Variables=["rho", "p"]))
-check("Point 1234 of the input mesh has a NaN or Inf coordinate" in text,
+check("Point 1234 of the input mesh has a non-finite coordinate (NaN or Inf)" in text,
       "WeightFunction, a NaN point in the wedge: the error names point 1234")
 refused_remesh("EmbeddedRemesh, a NaN point in the volume", with_nan_point(oblique, 77), [plane],
-               ["Point 77 of the volume mesh has a NaN or Inf coordinate"])
+               ["Point 77 of the volume mesh has a non-finite coordinate (NaN or Inf)"])
 # In 2-D mode (the wedge is one cell deep) a NaN in the surface was ignored.
 shock = artest.wedge_shock_plane(wedge)
 refused_remesh("EmbeddedRemesh 2-D, a NaN point in the surface", wedge, [with_nan_point(shock, 3)],
-               ["Point 3 of feature surface 0 (the Surfaces input) has a NaN or Inf coordinate"])
+               ["Point 3 of feature surface 0 (the Surfaces input) has a non-finite coordinate (NaN or Inf)"])
 # The 2-D job's size is checked too (the curve's resampling would allocate it).
 refused_remesh("EmbeddedRemesh 2-D, SurfaceEdgeLength 1e-9", wedge, [shock],
                ["EmbeddedRemesh (2-D mode): SurfaceEdgeLength is 1e-09", "would not fit in memory",
@@ -183,12 +186,66 @@ cfit = artest.cone_shock_fit(cone)
 nan_surface = with_nan_point(cfit, 5)
 smoothed, text = run(SmoothSurface(Input=nan_surface))
 P = np.asarray(smoothed.Points)
-check("Point 5 of the surface has a NaN or Inf coordinate" in text, "SmoothSurface, a NaN point: the error names point 5")
+check("Point 5 of the surface has a non-finite coordinate (NaN or Inf)" in text, "SmoothSurface, a NaN point: the error names point 5")
 check(int((~np.isfinite(P)).any(axis=1).sum()) == 1 and len(P) == artest.fetch(cfit).GetNumberOfPoints(),
       "SmoothSurface, a NaN point: the input passes through (%d of %d points non-finite, as in the input)"
       % (int((~np.isfinite(P)).any(axis=1).sum()), len(P)))
 _, text = run(SmoothSurface(Input=cfit, PassBand=3.0))
 check("PassBand is 3; it must lie in [0, 2]" in text, "SmoothSurface PassBand 3: refused by name, not clamped")
+
+# ---- Every other filter's former silent clamp: refused by name. The
+# sensors pass their input through (no new array), the surface filters
+# theirs, the writers write nothing.
+for label, proxy, said, absent in [
+        ("WeightFunction Epsilon -1", WeightFunction(Input=wedge, Variables=["rho", "p"], Epsilon=-1.0),
+         "Epsilon is -1; it must be at least 0", "WeightFunction"),
+        ("ShockSensor PressureGradientThreshold 1.5",
+         ShockSensor(Input=wedge, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"],
+                     PressureGradientThreshold=1.5),
+         "PressureGradientThreshold is 1.5; it must lie in [0, 1]", "NormalMach"),
+        ("ShockSensor LocalPeakFraction -0.1",
+         ShockSensor(Input=wedge, Velocity=["POINTS", "U"], Pressure=["POINTS", "p"], Density=["POINTS", "rho"],
+                     LocalPeakFraction=-0.1),
+         "LocalPeakFraction is -0.1; it must lie in [0, 1]", "NormalMach"),
+        ("FeatureCluster DilationRings 20", FeatureCluster(Input=weight, SensorArray=["POINTS", "WeightFunction"],
+                                                           SensorRange=[1.5, 2.0], DilationRings=20),
+         "DilationRings is 20; it must lie in [0, 16]", "ClusterId"),
+        ("FeatureCluster MinimumClusterSize 0", FeatureCluster(Input=weight, SensorArray=["POINTS", "WeightFunction"],
+                                                               SensorRange=[1.5, 2.0], MinimumClusterSize=0),
+         "MinimumClusterSize is 0; it must be at least 1", "ClusterId")]:
+    out, text = run(proxy)
+    check(said in text and absent not in out.PointData.keys() and absent not in out.CellData.keys(),
+          "%s: refused by name ('%s'), the input passes through" % (label, said))
+for label, proxy, said in [
+        ("ExtendToPlane TrimDistance -1", ExtendToPlane(Input=cfit, TrimDistance=-1.0),
+         "TrimDistance is -1; it must be at least 0"),
+        ("ExtendToPlane MaximumGap -1", ExtendToPlane(Input=cfit, MaximumGap=-1.0),
+         "MaximumGap is -1; it must be at least 0"),
+        ("MedialAxisDelaunay SmoothingIterations 20000", MedialAxisDelaunay(Input=cfit, SmoothingIterations=20000),
+         "SmoothingIterations is 20000; it must lie in [0, 10000]"),
+        ("MedialAxisDelaunay PassBand 0", MedialAxisDelaunay(Input=cfit, PassBand=0.0),
+         "PassBand is 0; it must lie in (0, 2]"),
+        ("MedialAxisDelaunay MinimumAreaFraction 2", MedialAxisDelaunay(Input=cfit, MinimumAreaFraction=2.0),
+         "MinimumAreaFraction is 2; it must lie in [0, 1]"),
+        ("ExtendToPlane, a NaN point", ExtendToPlane(Input=nan_surface),
+         "Point 5 of the surface has a non-finite coordinate (NaN or Inf)")]:
+    out, text = run(proxy)
+    check(said in text and out.GetNumberOfCells() == 0, "%s: refused by name ('%s'), the output is empty" % (label, said))
+trim = TrimSurface(Input=nan_surface)
+trim.TrimType = "Plane"
+out, text = run(trim)
+check("Point 5 of the surface has a non-finite coordinate (NaN or Inf)" in text
+      and out.GetNumberOfCells() == artest.fetch(cfit).GetNumberOfCells(),
+      "TrimSurface, a NaN point: refused by name, the input passes through")
+for writer, ext in [("GmshMSH22Writer", "msh"), ("SU2MeshWriter", "su2")]:
+    path = os.path.join(artest.OUTPUT_DIR, "bad_tolerance." + ext)
+    if os.path.exists(path):
+        os.remove(path)
+    before = len(messages.GetOutput())
+    SaveData(path, proxy=oblique, PointMatchingTolerance=2.0)
+    text = messages.GetOutput()[before:]
+    check("PointMatchingTolerance is 2; it must lie in [0, 1]" in text and not os.path.exists(path),
+          "%s PointMatchingTolerance 2: refused by name, nothing written" % writer)
 
 # ---- A non-conforming volume: the cone cut in two by a crack of duplicated
 # points (the cells left of the median centroid get their own copies of the

@@ -2,7 +2,9 @@
 #include "vtkARInputChecks.h"
 
 #include "vtkArrayDispatch.h"
-#include "vtkCellTypes.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellType.h"
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
 #include "vtkDoubleArray.h"
@@ -13,6 +15,7 @@
 #include "vtkPoints.h"
 #include "vtkSMPTools.h"
 #include "vtkStaticPointLocator.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <vtksys/SystemInformation.hxx>
@@ -29,6 +32,31 @@ namespace
 bool Unbounded(double hi)
 {
   return hi >= static_cast<double>(VTK_INT_MAX);
+}
+
+/// A 3-D cell type (explicit: vtkCellTypes::GetDimension builds a cell per call).
+bool IsVolumeType(int type)
+{
+  switch (type)
+  {
+    case VTK_TETRA:
+    case VTK_VOXEL:
+    case VTK_HEXAHEDRON:
+    case VTK_WEDGE:
+    case VTK_PYRAMID:
+    case VTK_PENTAGONAL_PRISM:
+    case VTK_HEXAGONAL_PRISM:
+    case VTK_POLYHEDRON:
+    case VTK_CONVEX_POINT_SET:
+    case VTK_QUADRATIC_TETRA:
+    case VTK_QUADRATIC_HEXAHEDRON:
+    case VTK_QUADRATIC_WEDGE:
+    case VTK_QUADRATIC_PYRAMID:
+    case VTK_TRIQUADRATIC_HEXAHEDRON:
+      return true;
+    default:
+      return false;
+  }
 }
 }
 
@@ -234,16 +262,21 @@ std::string vtkARInputChecks::DuplicatedPoints(vtkUnstructuredGrid* grid)
   // not make a crack).
   std::vector<char> used(n, 0);
   vtkNew<vtkIdList> ids;
-  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
   {
-    if (vtkCellTypes::GetDimension(grid->GetCellType(c)) != 3)
+    vtkUnsignedCharArray* types = grid->GetCellTypesArray();
+    auto cells = vtk::TakeSmartPointer(grid->GetCells()->NewIterator());
+    vtkIdType c = 0, npts;
+    const vtkIdType* pts;
+    for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell(), ++c)
     {
-      continue;
-    }
-    grid->GetCellPoints(c, ids);
-    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-    {
-      used[ids->GetId(k)] = 1;
+      if (IsVolumeType(types->GetValue(c)))
+      {
+        cells->GetCurrentCell(npts, pts);
+        for (vtkIdType k = 0; k < npts; ++k)
+        {
+          used[pts[k]] = 1;
+        }
+      }
     }
   }
   vtkNew<vtkStaticPointLocator> locator;
@@ -295,7 +328,7 @@ std::string vtkARInputChecks::DuplicatedPoints(vtkUnstructuredGrid* grid)
   vtkNew<vtkGenericCell> cell;
   for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
   {
-    if (vtkCellTypes::GetDimension(grid->GetCellType(c)) != 3)
+    if (!IsVolumeType(grid->GetCellType(c)))
     {
       continue;
     }

@@ -685,8 +685,17 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   {
     return passThrough("The volume mesh is empty.");
   }
+  // Wall-clock seconds per stage, reported in the output's field data.
+  auto stageStart = std::chrono::steady_clock::now();
+  auto lap = [&stageStart]() {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - stageStart).count();
+    stageStart = now;
+    return s;
+  };
   // ---- Coordinates and conformity, before any mesher sees them (TetGen
-  // fails on, or corrupts its heap with, a crack of duplicated points).
+  // fails on, or corrupts its heap with, a crack of duplicated points). Its
+  // time counts in SecondsInput.
   {
     std::string bad = vtkARInputChecks::NonFinitePoints(input, "the volume mesh");
     for (std::size_t k = 0; k < surfaces.size() && bad.empty(); ++k)
@@ -704,14 +713,6 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
       return passThrough("EmbeddedRemesh: " + bad);
     }
   }
-  // Wall-clock seconds per stage, reported in the output's field data.
-  auto stageStart = std::chrono::steady_clock::now();
-  auto lap = [&stageStart]() {
-    const auto now = std::chrono::steady_clock::now();
-    const double s = std::chrono::duration<double>(now - stageStart).count();
-    stageStart = now;
-    return s;
-  };
   // ---- 2-D mode: a one-cell-deep mesh is remeshed on its cross-section.
   std::string not2D = "TwoDimensional is Off";
   if (this->TwoDimensional == TWO_DIMENSIONAL_AUTO)

@@ -22,8 +22,8 @@ data through paraview.simple with the filters' own properties:
 - FeatureCluster with a SensorRange that selects every node: an error that
   gives the sensor's actual span on the mesh.
 - The other filters' former silent clamps (WeightFunction, ShockSensor,
-  FeatureCluster, ExtendToPlane, MedialAxisDelaunay, the Gmsh and SU2
-  writers) and NaN points in ExtendToPlane and TrimSurface: refused by name.
+  FeatureCluster, ExtendToPlane, MedialAxisDelaunay, QuadricFit, the Gmsh,
+  SU2 and OpenFOAM writers) and NaN points in ExtendToPlane and TrimSurface: refused by name.
 Each refusal: the message names the cause (and not the old wrong one),
 nothing crashes, and the output is the input passed through.
 """
@@ -237,6 +237,15 @@ out, text = run(trim)
 check("Point 5 of the surface has a non-finite coordinate (NaN or Inf)" in text
       and out.GetNumberOfCells() == artest.fetch(cfit).GetNumberOfCells(),
       "TrimSurface, a NaN point: refused by name, the input passes through")
+out, text = run(QuadricFit(Input=OutputPort(clusters, 1), Domain=oblique, Template="Plane", ClusterId=0, Margin=0.5))
+check("Margin is 0.5; it must lie in [1, 1e+06]" in text and out.GetNumberOfCells() == 0,
+      "QuadricFit Margin 0.5: refused by name (it was clamped to 1), the output is empty")
+foam = os.path.join(artest.OUTPUT_DIR, "bad_tolerance_case", "case.foam")
+before = len(messages.GetOutput())
+SaveData(foam, proxy=oblique, PointMatchingTolerance=2.0)
+text = messages.GetOutput()[before:]
+check("PointMatchingTolerance is 2; it must lie in [0, 1]" in text and not os.path.exists(foam),
+      "OpenFOAMCaseWriter PointMatchingTolerance 2: refused by name, nothing written")
 for writer, ext in [("GmshMSH22Writer", "msh"), ("SU2MeshWriter", "su2")]:
     path = os.path.join(artest.OUTPUT_DIR, "bad_tolerance." + ext)
     if os.path.exists(path):

@@ -258,6 +258,20 @@ std::string vtkARInputChecks::DuplicatedPoints(vtkUnstructuredGrid* grid)
     return std::string();
   }
   const vtkIdType n = grid->GetNumberOfPoints();
+  vtkNew<vtkStaticPointLocator> locator;
+  locator->SetDataSet(grid);
+  locator->BuildLocator();
+  std::vector<vtkIdType> merged(n);
+  locator->MergePoints(0.0, merged.data()); // exact coincidence
+  bool any = false;
+  for (vtkIdType p = 0; p < n && !any; ++p)
+  {
+    any = merged[p] != p;
+  }
+  if (!any)
+  {
+    return std::string(); // no two points at the same place (the usual case: nothing more to do)
+  }
   // The points 3-D cells use (orphans and points of 2-D patch faces only do
   // not make a crack).
   std::vector<char> used(n, 0);
@@ -279,11 +293,6 @@ std::string vtkARInputChecks::DuplicatedPoints(vtkUnstructuredGrid* grid)
       }
     }
   }
-  vtkNew<vtkStaticPointLocator> locator;
-  locator->SetDataSet(grid);
-  locator->BuildLocator();
-  std::vector<vtkIdType> merged(n);
-  locator->MergePoints(0.0, merged.data()); // exact coincidence
   // Per representative: the first used point there; a second one is a duplicate.
   std::vector<vtkIdType> firstUsed(n, -1);
   std::vector<char> duplicate(n, 0);

@@ -81,7 +81,7 @@ bool vtkEmbeddedRemeshOptionsValid(vtkEmbeddedRemesh* self, std::string& problem
 /// `inputSize` at the cavity's boundary). `dimension` 2: `extent` is the
 /// curves' length, `domain` the cross-section's area, segments plus
 /// triangles likewise (2.9 per edge^2, as measured). `inputCells`: V's cells (FullDomain remeshes them
-/// all). Also refuses an edge longer than S itself (`size`, S's bounding-box
+/// all, into about twice as many). With prism layers, 2 NumberOfLayers prisms per S triangle. Also refuses an edge longer than S itself (`size`, S's bounding-box
 /// diagonal, or the curves' length). False with `problem` naming the
 /// property that set the edge (SurfaceEdgeLength, or SurfaceSizeFactor),
 /// the estimate and the cap.

@@ -108,7 +108,7 @@ text = refused_remesh("SurfaceEdgeLength 1e-9", oblique, [plane],
                        "tetrahedra", "bytes per element", "Raise SurfaceEdgeLength"], SurfaceEdgeLength=1e-9)
 estimate, cap = estimate_of(text)
 # Even at the 313 bytes per element measured on real runs (the cap assumes 1024), the job needs more than the
-# machine has.
+# machine has: the refusal is of a job that could not run.
 check(estimate > cap and estimate * 313.0 > physical_memory(),
       "SurfaceEdgeLength 1e-9: the estimate (%.2e elements) is above the cap (%.2e) and needs more than the "
       "machine's %.1f GiB" % (estimate, cap, physical_memory() / 2 ** 30))

@@ -292,8 +292,7 @@ int vtkQuadricFit::RequestData(
                .InRange("ClusterId", this->ClusterId, -1, VTK_INT_MAX, "-1 fits every point")
                .InRange("SurfaceEdgeLength", this->SurfaceEdgeLength, 0.0, VTK_DOUBLE_MAX, "0 automatic")
                .InRange("Margin", this->Margin, 1.0, 1e6, "in edge lengths")
-               .Message()
-          << vtkARInputChecks::NonFinitePoints(input, "the medial points (Input)");
+               .Message();
   std::vector<double> local;
   // [0] input points, [1] has ClusterId, [2] has Weight, [3] has LocalSize,
   // [4] largest id, [5] -(smallest id)

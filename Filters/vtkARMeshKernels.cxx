@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkARMeshKernels.h"
+#include "vtkARInputChecks.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkAppendPolyData.h"
@@ -251,14 +252,18 @@ bool vtkARMeshKernels::AgreeToProceed(vtkAlgorithm* self, const std::string& pro
     vtkWarningWithObjectMacro(self, << census.TooManyPoints << " polyhedra with more than "
                     << MaxCellPoints << " points are ignored.");
   }
+  // A NaN or Inf coordinate makes the cells at it degenerate, which the
+  // loops would skip without a word: refused here, for every filter.
+  const std::string finite =
+    mesh.X ? vtkARInputChecks::NonFinitePoints(mesh.X, mesh.NumberOfPoints, "the input mesh") : std::string();
   // [0] ranks with a problem, [1] linear 3-D cells, [2] cells,
   // [3] ranks holding cells without ghost cells, [4] ranks holding cells.
   const bool hasCells = mesh.NumberOfCells > 0;
-  double status[5] = { problem.empty() ? 0.0 : 1.0, static_cast<double>(census.VolumeCells),
+  double status[5] = { (problem.empty() && finite.empty()) ? 0.0 : 1.0, static_cast<double>(census.VolumeCells),
     static_cast<double>(mesh.NumberOfCells), (hasCells && !mesh.CellGhosts) ? 1.0 : 0.0,
     hasCells ? 1.0 : 0.0 };
   AllReduceSum(status, 5);
-  std::string message = problem;
+  std::string message = finite + problem;
   if (status[0] == 0.0 && status[2] == 0.0)
   {
     message = "The input mesh is empty. ";

@@ -9,6 +9,7 @@
 #include "ARPrismLayers.h"
 #include "ARSurfaceRemesh.h"
 #include "ARTetGeometry.h"
+#include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
 
 #include "vtkAppendFilter.h"
@@ -53,6 +54,7 @@
 #include <set>
 #include <chrono>
 #include <cmath>
+#include <new>
 #include <numeric>
 #include <sstream>
 #include <string>
@@ -313,19 +315,127 @@ void vtkEmbeddedRemeshAddSizeFields(vtkUnstructuredGrid* output, double edge, do
   field("SurfaceSizeRatio", inputSize > 0.0 ? outputSize / inputSize : 0.0);
 }
 
-bool vtkEmbeddedRemeshSizeOptionsValid(vtkEmbeddedRemesh* self, std::string& problem)
+bool vtkEmbeddedRemeshOptionsValid(vtkEmbeddedRemesh* self, std::string& problem)
 {
+  vtkARInputChecks::Properties p;
+  p.OneOf("Mode", self->GetMode(), { "LocalCavity", "FullDomain" })
+    .InRange("SurfaceEdgeLength", self->GetSurfaceEdgeLength(), 0.0, VTK_DOUBLE_MAX,
+      "S's edge length; 0 sets it from the input's size at S")
+    .AboveAndAtMost("RemovalFactor", self->GetRemovalFactor(), 0.0, 1e3,
+      "the radius of removal in units of max(l_s, l_v)")
+    .InRange("BoundaryMargin", self->GetBoundaryMargin(), 0.0, 1e3,
+      "S is trimmed this many of its edge lengths away from V's boundary")
+    .InRange("MaxRadiusEdgeRatio", self->GetMaxRadiusEdgeRatio(), 1.0, 100.0,
+      "TetGen's radius-edge bound; below 1 it cannot be met")
+    .InRange("MinDihedralAngle", self->GetMinDihedralAngle(), 0.0, 30.0, "degrees")
+    .OneOf("TwoDimensional", self->GetTwoDimensional(), { "Auto", "Off" })
+    .InRange("MinTriangleAngle", self->GetMinTriangleAngle(), 0.0, 30.0, "degrees");
   const double f = self->GetSurfaceSizeFactor();
   if (self->GetSurfaceEdgeLength() <= 0.0 && !(f >= 0.0 && f <= 10.0))
   {
     std::ostringstream msg;
-    msg << "EmbeddedRemesh: SurfaceSizeFactor is " << f
+    msg << "SurfaceSizeFactor is " << f
         << "; it must lie in [0, 10] (S's edge length in units of the input's size at S, "
            "below 1 refines; 0 automatic), or set SurfaceEdgeLength.";
+    p.Add(msg.str());
+  }
+  if (p.Ok())
+  {
+    return true;
+  }
+  problem = "EmbeddedRemesh: " + p.Message();
+  problem.pop_back(); // the callers add " The input passes through unchanged."
+  return false;
+}
+
+bool vtkEmbeddedRemeshJobFits(vtkEmbeddedRemesh* self, int dimension, double extent, double size,
+  double edge, double inputSize, double domain, double inputCells, std::string& problem)
+{
+  const bool byLength = self->GetSurfaceEdgeLength() > 0.0;
+  std::ostringstream who;
+  if (byLength)
+  {
+    who << "SurfaceEdgeLength is " << edge;
+  }
+  else
+  {
+    who << "SurfaceSizeFactor is " << self->GetSurfaceSizeFactorUsed() << " (S's edge length "
+        << edge << ", the input's size at S " << inputSize << " times it)";
+  }
+  const char* what = dimension == 3 ? "the feature surface" : "the feature curve";
+  if (edge > size)
+  {
+    std::ostringstream msg;
+    msg << "EmbeddedRemesh: " << who.str() << ", longer than " << what << " itself ("
+        << (dimension == 3 ? "its bounding box's diagonal is " : "its length is ") << size
+        << "): it cannot be meshed at that length. The edge length must lie in (0, " << size
+        << "] here, and be well below it; 0 sets it from the input's size at S (" << inputSize << ").";
     problem = msg.str();
     return false;
   }
-  return true;
+  // The cavity: a slab of the removal radius on both sides of S (the
+  // whole domain with FullDomain), its cells graded linearly from `edge` at
+  // S to the input's size H at the slab's faces: per unit of S, the
+  // integral of 1 / size(d)^dimension over d in [0, D] on each side.
+  const double H = std::max(edge, inputSize);
+  const double D = self->GetRemovalFactor() * H;
+  const bool full = self->GetMode() == vtkEmbeddedRemesh::FULL_DOMAIN;
+  const double slab = std::min(2.0 * extent * D, domain > 0.0 ? domain : VTK_DOUBLE_MAX);
+  const double cavity = full ? domain : slab;
+  // Cells per edge^d of graded volume: 8.5 tetrahedra (the regular
+  // tetrahedron's; TetGen's refill of the oblique shock measured within 2%
+  // of it at SurfaceSizeFactor 0.1-0.2), 2.9 triangles (the equilateral
+  // triangle's 2.31 gave 80% of CGAL's count on the wedge at 0.05-0.2).
+  double boundaryElements, cavityElements;
+  if (dimension == 3)
+  {
+    boundaryElements = extent / (0.25 * std::sqrt(3.0) * edge * edge);
+    cavityElements = 8.5 * slab * (H + edge) / (2.0 * edge * edge * H * H);
+  }
+  else
+  {
+    boundaryElements = extent / edge;
+    cavityElements = 2.9 * slab / (edge * H);
+  }
+  if (full)
+  {
+    // The far field, remeshed at about its size: TetGen's quality mesh of
+    // it has about twice the input's cells (1.9x on Kuhn cubes of 5.1e6
+    // tetrahedra: 11.1e6 new cells; on the oblique shock's Gmsh mesh the
+    // 4689 cells LocalCavity keeps became 12613 with FullDomain).
+    cavityElements += 2.0 * inputCells;
+  }
+  // Prism layers: NumberOfLayers prisms on each side of every S triangle.
+  const double layerElements = dimension == 3 && self->GetLayerType() == vtkEmbeddedRemesh::PRISMS
+    ? 2.0 * self->GetNumberOfLayers() * boundaryElements
+    : 0.0;
+  const double total = boundaryElements + cavityElements + layerElements;
+  const double cap = vtkARInputChecks::MaximumElements();
+  if (std::isfinite(total) && total <= cap)
+  {
+    return true;
+  }
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << "EmbeddedRemesh: " << who.str() << ": the job would not fit in memory. "
+      << (dimension == 3 ? "The feature surface's " : "The feature curve's ")
+      << (dimension == 3 ? "area " : "length ") << extent << " over the edge length"
+      << (dimension == 3 ? " squared" : "") << " gives about " << boundaryElements
+      << (dimension == 3 ? " surface triangles" : " curve segments") << ", and the cavity ("
+      << (dimension == 3 ? "volume " : "area ") << cavity << ", cells graded from " << edge << " at S to "
+      << H << ") about " << cavityElements << (dimension == 3 ? " tetrahedra" : " triangles");
+  if (layerElements > 0.0)
+  {
+    msg << ", the prism layers about " << layerElements << " cells";
+  }
+  msg << ": an estimated " << total << " elements, above the cap of " << cap
+      << " (half of this machine's " << vtkARInputChecks::PhysicalMemory() / (1024.0 * 1024.0 * 1024.0)
+      << " GiB of memory at " << static_cast<int>(vtkARInputChecks::BytesPerElement)
+      << " bytes per element). Raise "
+      << (byLength ? "SurfaceEdgeLength" : "SurfaceSizeFactor")
+      << " (0 for both chooses the edge from the input's size at S, " << inputSize << ").";
+  problem = msg.str();
+  return false;
 }
 
 void vtkEmbeddedRemeshAddLayerFields(
@@ -480,9 +590,36 @@ int vtkEmbeddedRemesh::RequestData(
     vtkDataObject::GetData(outputVector, 0)->ShallowCopy(inputObject);
     return 1;
   }
+  // Whatever the core throws (std::bad_alloc when a job outgrows the
+  // memory despite the size estimate, a CGAL precondition) becomes an error,
+  // never an abort of the application.
+  auto remesh = [&](vtkUnstructuredGrid* volume, vtkUnstructuredGrid* out, vtkEmbeddedRemeshPlanes* planes) {
+    std::string failure;
+    try
+    {
+      return this->RemeshVolume(volume, surfaces, out, embedded, planes);
+    }
+    catch (const std::bad_alloc&)
+    {
+      failure = "EmbeddedRemesh ran out of memory (std::bad_alloc) while remeshing; raise SurfaceEdgeLength "
+                "(or SurfaceSizeFactor), or remesh a smaller region (LocalCavity, a lower RemovalFactor).";
+    }
+    catch (const std::exception& e)
+    {
+      failure = std::string("EmbeddedRemesh failed: ") + e.what() + ".";
+    }
+    vtkErrorMacro(<< failure << " The input passes through unchanged.");
+    out->ShallowCopy(volume);
+    embedded->Initialize();
+    if (planes)
+    {
+      planes->Valid = false;
+    }
+    return 1;
+  };
   if (auto* grid = vtkUnstructuredGrid::SafeDownCast(inputObject))
   {
-    return this->RemeshVolume(grid, surfaces, vtkUnstructuredGrid::GetData(outputVector, 0), embedded);
+    return remesh(grid, vtkUnstructuredGrid::GetData(outputVector, 0), nullptr);
   }
   // A multiblock (ParaView's OpenFOAM reader): the volume leaf ("internalMesh",
   // else the first unstructured grid with 3-D cells) is remeshed; the patch
@@ -511,7 +648,7 @@ int vtkEmbeddedRemesh::RequestData(
     return 1;
   }
   vtkEmbeddedRemeshPlanes planes;
-  this->RemeshVolume(volume, surfaces, remeshed, embedded, &planes);
+  remesh(volume, remeshed, &planes);
   for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
   {
     vtkDataObject* leaf = it->GetCurrentDataObject();
@@ -548,7 +685,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     return 1;
   };
   std::string sizeProblem;
-  if (!vtkEmbeddedRemeshSizeOptionsValid(this, sizeProblem))
+  if (!vtkEmbeddedRemeshOptionsValid(this, sizeProblem))
   {
     return passThrough(sizeProblem);
   }
@@ -568,6 +705,26 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     stageStart = now;
     return s;
   };
+  // ---- Coordinates and conformity, before any mesher sees them (TetGen
+  // fails on, or corrupts its heap with, a crack of duplicated points). Its
+  // time counts in SecondsInput.
+  {
+    std::string bad = vtkARInputChecks::NonFinitePoints(input, "the volume mesh");
+    for (std::size_t k = 0; k < surfaces.size() && bad.empty(); ++k)
+    {
+      const std::string what = "feature surface " + std::to_string(k) + " (the Surfaces input)";
+      bad = vtkARInputChecks::NonFinitePoints(surfaces[k], what.c_str());
+    }
+    if (bad.empty())
+    {
+      bad = vtkARInputChecks::DuplicatedPoints(input);
+    }
+    if (!bad.empty())
+    {
+      bad.pop_back();
+      return passThrough("EmbeddedRemesh: " + bad);
+    }
+  }
   // ---- 2-D mode: a one-cell-deep mesh is remeshed on its cross-section.
   std::string not2D = "TwoDimensional is Off";
   if (this->TwoDimensional == TWO_DIMENSIONAL_AUTO)
@@ -718,9 +875,40 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   {
     return passThrough("Could not find the mesh size near the feature surface; set SurfaceEdgeLength.");
   }
+  std::string error;
+  {
+    // The job's size, before CGAL or TetGen allocate it.
+    double area = 0.0;
+    double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+    double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+    for (std::size_t t = 0; t < sTris.size(); t += 3)
+    {
+      const double* a = &sPoints[3 * sTris[t]];
+      const double* b = &sPoints[3 * sTris[t + 1]];
+      const double* c = &sPoints[3 * sTris[t + 2]];
+      const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+      const double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+      double w[3];
+      vtkMath::Cross(u, v, w);
+      area += 0.5 * vtkMath::Norm(w);
+      for (const double* x : { a, b, c })
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          lo[k] = std::min(lo[k], x[k]);
+          hi[k] = std::max(hi[k], x[k]);
+        }
+      }
+    }
+    const double diagonal = std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi));
+    if (!vtkEmbeddedRemeshJobFits(this, 3, area, diagonal, edge, inputSize, ar::ComputeStatistics(tets).TotalVolume,
+          static_cast<double>(tets.NumberOfTetrahedra()), error))
+    {
+      return passThrough(error);
+    }
+  }
   std::vector<double> rPoints;
   std::vector<std::int64_t> rTris;
-  std::string error;
   if (!ar::RemeshSurfaceIsotropic(sPoints, sTris, edge, rPoints, rTris, error))
   {
     vtkWarningMacro(<< "The feature surface is used as it is (not remeshed): " << error);
@@ -1160,6 +1348,19 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     tetCell.push_back(c);
     owned.push_back(ghost ? 0 : 1);
   }
+  if (problem.empty())
+  {
+    problem = vtkARInputChecks::NonFinitePoints(V.Points.data(), nPoints, "the volume mesh (this rank's piece)");
+    for (std::size_t k = 0; k < surfaces.size() && problem.empty(); ++k)
+    {
+      const std::string what = "feature surface " + std::to_string(k) + " (the Surfaces input)";
+      problem = vtkARInputChecks::NonFinitePoints(surfaces[k], what.c_str());
+    }
+    if (!problem.empty())
+    {
+      problem = "EmbeddedRemesh: " + problem.substr(0, problem.size() - 1);
+    }
+  }
   if (failed())
   {
     return passThrough();
@@ -1291,6 +1492,47 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   {
     problem = "Could not find the mesh size near the feature surface; set SurfaceEdgeLength.";
     return passThrough();
+  }
+  {
+    // The job's size (the same on every rank: S and the sums are global).
+    double area = 0.0;
+    double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+    double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+    for (std::size_t t = 0; t < sTris.size(); t += 3)
+    {
+      const double* a = &sPoints[3 * static_cast<std::size_t>(sTris[t])];
+      const double* b = &sPoints[3 * static_cast<std::size_t>(sTris[t + 1])];
+      const double* c = &sPoints[3 * static_cast<std::size_t>(sTris[t + 2])];
+      const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+      const double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+      double w[3];
+      vtkMath::Cross(u, v, w);
+      area += 0.5 * vtkMath::Norm(w);
+      for (const double* x : { a, b, c })
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          lo[k] = std::min(lo[k], x[k]);
+          hi[k] = std::max(hi[k], x[k]);
+        }
+      }
+    }
+    double volume = 0.0;
+    for (std::size_t t = 0; t < nT; ++t)
+    {
+      if (owned[t])
+      {
+        const std::int64_t* q = &V.Tetrahedra[4 * t];
+        const double* x = V.Points.data();
+        volume += std::abs(ar::TetSignedVolume(x + 3 * q[0], x + 3 * q[1], x + 3 * q[2], x + 3 * q[3]));
+      }
+    }
+    vtkARMeshKernels::AllReduceSum(&volume, 1);
+    if (!vtkEmbeddedRemeshJobFits(this, 3, area, std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi)), edge,
+          inputSize, volume, nOwned, problem))
+    {
+      return passThrough(); // the same verdict on every rank
+    }
   }
 
   // ---- S remeshed on rank 0, sent to every rank.

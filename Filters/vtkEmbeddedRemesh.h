@@ -190,9 +190,18 @@ public:
   void AddSurfaceData(vtkDataObject* data) { this->AddInputData(1, data); }
   void RemoveAllSurfaces() { this->RemoveAllInputConnections(1); }
 
-  vtkSetClampMacro(Mode, int, LOCAL_CAVITY, FULL_DOMAIN);
+  /// The properties below are not clamped: a value out of its range (given in
+  /// the XML's documentation and domains) is refused by RequestData with an
+  /// error naming the property, its value and the range, the input passed
+  /// through. So is a SurfaceEdgeLength (or SurfaceSizeFactor) whose job
+  /// would not fit in memory: the surface triangles (S's area over the edge
+  /// length squared) and the refill's cells (the cavity's volume over the
+  /// cell size cubed, graded from S's edge to the input's size) are estimated
+  /// before anything is meshed and compared with
+  /// vtkARInputChecks::MaximumElements() (half the machine's memory).
+  vtkSetMacro(Mode, int);
   vtkGetMacro(Mode, int);
-  vtkSetClampMacro(SurfaceEdgeLength, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(SurfaceEdgeLength, double);
   vtkGetMacro(SurfaceEdgeLength, double);
   /// With SurfaceEdgeLength 0: S's edge length in units of the input's local
   /// size at S. 0 (the default) is automatic: 0.2 with tetrahedra (the new
@@ -204,21 +213,21 @@ public:
   vtkGetMacro(SurfaceSizeFactor, double);
   /// The factor a run uses: SurfaceSizeFactor, or the automatic one.
   double GetSurfaceSizeFactorUsed() const;
-  vtkSetClampMacro(RemovalFactor, double, 0.0, 1e3);
+  vtkSetMacro(RemovalFactor, double);
   vtkGetMacro(RemovalFactor, double);
   vtkSetMacro(VisibilityTest, bool);
   vtkGetMacro(VisibilityTest, bool);
   vtkBooleanMacro(VisibilityTest, bool);
-  vtkSetClampMacro(BoundaryMargin, double, 0.0, 1e3);
+  vtkSetMacro(BoundaryMargin, double);
   vtkGetMacro(BoundaryMargin, double);
-  vtkSetClampMacro(MaxRadiusEdgeRatio, double, 1.0, 100.0);
+  vtkSetMacro(MaxRadiusEdgeRatio, double);
   vtkGetMacro(MaxRadiusEdgeRatio, double);
-  vtkSetClampMacro(MinDihedralAngle, double, 0.0, 30.0);
+  vtkSetMacro(MinDihedralAngle, double);
   vtkGetMacro(MinDihedralAngle, double);
-  vtkSetClampMacro(TwoDimensional, int, TWO_DIMENSIONAL_AUTO, TWO_DIMENSIONAL_OFF);
+  vtkSetMacro(TwoDimensional, int);
   vtkGetMacro(TwoDimensional, int);
   /// 2-D mode: the angle (degrees) the new triangles are refined to reach.
-  vtkSetClampMacro(MinTriangleAngle, double, 0.0, 30.0);
+  vtkSetMacro(MinTriangleAngle, double);
   vtkGetMacro(MinTriangleAngle, double);
   /// Tetrahedra (default) or Prisms: NumberOfLayers prism layers on each
   /// side of S (ar::BuildPrismLayers), layer k FirstLayerThickness *

@@ -376,6 +376,29 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   {
     return passThrough("Could not find the mesh size near the feature curve; set SurfaceEdgeLength.");
   }
+  {
+    // The job's size, before the resampling and CGAL allocate it.
+    double length = 0.0;
+    vtkIdType n;
+    const vtkIdType* ids;
+    vtkCellArray* lines = cut->GetLines();
+    for (lines->InitTraversal(); lines->GetNextCell(n, ids);)
+    {
+      for (vtkIdType k = 1; k < n; ++k)
+      {
+        double a[3], b[3]; // copies: GetPoint(id) returns one buffer for every call
+        cut->GetPoint(ids[k - 1], a);
+        cut->GetPoint(ids[k], b);
+        length += std::hypot(a[U] - b[U], a[V] - b[V]);
+      }
+    }
+    std::string tooLarge;
+    if (!vtkEmbeddedRemeshJobFits(
+          this, 2, length, length, edge, inputSize, areaBefore, static_cast<double>(nVolume), tooLarge))
+    {
+      return passThrough(tooLarge.substr(std::string("EmbeddedRemesh: ").size()));
+    }
+  }
   vtkNew<vtkSplineFilter> resample;
   resample->SetInputData(cut);
   resample->SetSubdivideToLength();

@@ -65,8 +65,27 @@ double vtkEmbeddedRemeshOutputSizeAtSurface(const ar::CavityRemesh& result);
 /// fine the new cells at S are relative to the input's).
 void vtkEmbeddedRemeshAddSizeFields(vtkUnstructuredGrid* output, double edge, double inputSize, double outputSize);
 
-/// False with `problem` naming the property when SurfaceSizeFactor is
-/// outside (0, 10] and is used (SurfaceEdgeLength 0).
-bool vtkEmbeddedRemeshSizeOptionsValid(vtkEmbeddedRemesh* self, std::string& problem);
+/// False with `problem` naming every property out of its range (its value
+/// and the range; the XML's domains agree), e.g. RemovalFactor outside
+/// (0, 1000], MaxRadiusEdgeRatio outside [1, 100], SurfaceSizeFactor outside
+/// [0, 10] when it is used (SurfaceEdgeLength 0). Nothing is clamped.
+bool vtkEmbeddedRemeshOptionsValid(vtkEmbeddedRemesh* self, std::string& problem);
+
+/// The size of the job S's edge length `edge` implies, against the memory
+/// cap (vtkARInputChecks::MaximumElements). `dimension` 3: `extent` is S's
+/// area, `domain` V's volume, the estimate S's triangles (area over the
+/// equilateral triangle's, sqrt(3)/4 edge^2) plus the refill's tetrahedra
+/// (8.5 per edge^3: the cavity's volume, a slab RemovalFactor *
+/// max(edge, inputSize) thick on both sides of S or the whole domain with
+/// FullDomain, over the cell size cubed graded linearly from `edge` at S to
+/// `inputSize` at the cavity's boundary). `dimension` 2: `extent` is the
+/// curves' length, `domain` the cross-section's area, segments plus
+/// triangles likewise (2.9 per edge^2, as measured). `inputCells`: V's cells (FullDomain remeshes them
+/// all, into about twice as many). With prism layers, 2 NumberOfLayers prisms per S triangle. Also refuses an edge longer than S itself (`size`, S's bounding-box
+/// diagonal, or the curves' length). False with `problem` naming the
+/// property that set the edge (SurfaceEdgeLength, or SurfaceSizeFactor),
+/// the estimate and the cap.
+bool vtkEmbeddedRemeshJobFits(vtkEmbeddedRemesh* self, int dimension, double extent, double size,
+  double edge, double inputSize, double domain, double inputCells, std::string& problem);
 
 #endif

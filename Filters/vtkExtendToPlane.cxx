@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkExtendToPlane.h"
+#include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
 
 #include "vtkCellArray.h"
@@ -98,9 +99,12 @@ int vtkExtendToPlane::RequestData(
     vtkErrorMacro("ExtendToPlane: PlaneNormal is zero; the output is empty.");
     return 1;
   }
-  if (!std::isfinite(this->TrimDistance) || std::isnan(this->MaximumGap))
+  vtkARInputChecks::Properties ranges;
+  ranges.InRange("TrimDistance", this->TrimDistance, 0.0, VTK_DOUBLE_MAX)
+    .InRange("MaximumGap", this->MaximumGap, 0.0, VTK_DOUBLE_MAX, "0 automatic");
+  if (!ranges.Ok())
   {
-    vtkErrorMacro("ExtendToPlane: TrimDistance or MaximumGap is not finite; the output is empty.");
+    vtkErrorMacro("ExtendToPlane: " << ranges.Message() << "The output is empty.");
     return 1;
   }
   const double* o = this->PlaneOrigin;
@@ -130,18 +134,13 @@ int vtkExtendToPlane::RequestData(
                   "empty.");
     return 1;
   }
-  vtkPoints* points = surface->GetPoints();
-  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  const std::string nonFinite = vtkARInputChecks::NonFinitePoints(surface, "the surface");
+  if (!nonFinite.empty())
   {
-    double x[3];
-    points->GetPoint(i, x);
-    if (!Finite3(x))
-    {
-      vtkErrorMacro("ExtendToPlane: point " << i << " of the surface has a NaN or Inf "
-                                            "coordinate; the output is empty.");
-      return 1;
-    }
+    vtkErrorMacro("ExtendToPlane: " << nonFinite << "The output is empty.");
+    return 1;
   }
+  vtkPoints* points = surface->GetPoints();
   this->UpdateProgress(0.2);
 
   // ---- Side: flip the normal when the surface lies mostly behind the plane

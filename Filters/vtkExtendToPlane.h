@@ -88,16 +88,18 @@ public:
   ///@{
   /// The part of the surface within this distance of the plane (and beyond
   /// it) is cut away before extending. Default 0 (only the part beyond the
-  /// plane is cut).
-  vtkSetClampMacro(TrimDistance, double, 0.0, VTK_DOUBLE_MAX);
+  /// plane is cut). Not clamped: a negative or non-finite value is refused
+  /// with an error naming it.
+  vtkSetMacro(TrimDistance, double);
   vtkGetMacro(TrimDistance, double);
   ///@}
 
   ///@{
   /// Open boundary edges with an end point farther than this from the plane
   /// are not extended. 0 (default): automatic, the smallest distance of an
-  /// open boundary point plus the mean edge length.
-  vtkSetClampMacro(MaximumGap, double, 0.0, VTK_DOUBLE_MAX);
+  /// open boundary point plus the mean edge length. Not clamped: a negative
+  /// or non-finite value is refused with an error naming it.
+  vtkSetMacro(MaximumGap, double);
   vtkGetMacro(MaximumGap, double);
   ///@}
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkFeatureCluster.h"
 
+#include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -216,6 +217,10 @@ int vtkFeatureCluster::RequestData(
   }
   const vtkIdType npts = mesh.NumberOfPoints;
   const vtkIdType ncells = mesh.NumberOfCells;
+  problem << vtkARInputChecks::Properties()
+               .InRange("DilationRings", this->DilationRings, 0, 16)
+               .InRange("MinimumClusterSize", this->MinimumClusterSize, 1, VTK_INT_MAX)
+               .Message();
   const bool automaticRange = this->SensorRange[0] == 0.0 && this->SensorRange[1] == 0.0;
   if (!automaticRange && !(this->SensorRange[0] <= this->SensorRange[1]))
   {
@@ -277,6 +282,7 @@ int vtkFeatureCluster::RequestData(
 
   // ---- Step 1: the seeds.
   std::vector<std::uint8_t> seeds(npts, 0);
+  double sensorSpan[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX }; // this rank's finite sensor values
   if (ncells > 0)
   {
     if (!sensor && automaticArray)
@@ -302,6 +308,11 @@ int vtkFeatureCluster::RequestData(
       {
         problem << "The sensor array '" << sensor->GetName() << "' holds NaN or Inf ("
                 << (onPoints ? "point " : "cell ") << bad << "). ";
+      }
+      for (const double v : values)
+      {
+        sensorSpan[0] = std::isfinite(v) ? std::min(sensorSpan[0], v) : sensorSpan[0];
+        sensorSpan[1] = std::isfinite(v) ? std::max(sensorSpan[1], v) : sensorSpan[1];
       }
       if (onPoints)
       {
@@ -334,6 +345,31 @@ int vtkFeatureCluster::RequestData(
           seeds[p] = marks[p].load(std::memory_order_relaxed);
         }
       }
+    }
+  }
+  // ---- A range that seeds every node isolates no feature: the one cluster
+  // would be the whole domain, with no boundary and so no medial points.
+  // Refused (collective: every rank takes part in the sums).
+  {
+    double counts[2] = { 0.0, 0.0 }; // seeded owned nodes, owned nodes
+    for (vtkIdType p = 0; p < npts && ncells > 0; ++p)
+    {
+      if (mesh.IsOwnedPoint(p))
+      {
+        counts[0] += seeds[p] ? 1.0 : 0.0;
+        counts[1] += 1.0;
+      }
+    }
+    vtkARMeshKernels::AllReduceSum(counts, 2);
+    double span[2] = { -sensorSpan[0], sensorSpan[1] };
+    vtkARMeshKernels::AllReduceMax(span, 2);
+    if (problem.str().empty() && counts[1] > 0.0 && counts[0] == counts[1])
+    {
+      problem << "SensorRange [" << lo << ", " << hi << "] selects every node (" << counts[0] << " of "
+              << counts[1] << "): the cluster would be the whole domain, so no feature is isolated (and it has "
+              << "no medial points). The sensor '" << (sensor && sensor->GetName() ? sensor->GetName() : "") << "' spans [" << -span[0] << ", "
+              << span[1] << "] on this mesh: choose a range inside it that holds the feature's values only "
+              << "(the automatic range, [0, 0], is [0.8, 1.2] for NormalMach, [1.5, 2] for WeightFunction). ";
     }
   }
   if (!vtkARMeshKernels::AgreeToProceed(

@@ -84,14 +84,16 @@ public:
   static constexpr const char* AutomaticArrayName = "(automatic)";
 
   ///@{
-  /// Rings of neighbours added to the selection (step 2). Default 1.
-  vtkSetClampMacro(DilationRings, int, 0, 16);
+  /// Rings of neighbours added to the selection (step 2), 0 to 16. Default 1.
+  /// Not clamped: a value outside is refused with an error naming it.
+  vtkSetMacro(DilationRings, int);
   vtkGetMacro(DilationRings, int);
   ///@}
 
   ///@{
-  /// Clusters with fewer nodes are dropped. Default 10.
-  vtkSetClampMacro(MinimumClusterSize, int, 1, VTK_INT_MAX);
+  /// Clusters with fewer nodes are dropped. At least 1 (refused otherwise,
+  /// not clamped). Default 10.
+  vtkSetMacro(MinimumClusterSize, int);
   vtkGetMacro(MinimumClusterSize, int);
   ///@}
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkGmshWriter.h"
+#include "vtkARInputChecks.h"
 #include "vtkARSolverMesh.h"
 
 #include "vtkAlgorithm.h"
@@ -35,6 +36,15 @@ void vtkGmshWriter::WriteData()
 {
   this->SetErrorCode(vtkErrorCode::NoError);
   const std::string path = this->FileName ? this->FileName : "";
+  vtkARInputChecks::Properties ranges;
+  ranges.InRange("PointMatchingTolerance", this->PointMatchingTolerance, 0.0, 1.0,
+    "a fraction of the volume's bounding-box diagonal");
+  if (!ranges.Ok())
+  {
+    vtkErrorMacro("GmshWriter: " << ranges.Message() << "Nothing is written to '" << path << "'.");
+    this->SetErrorCode(vtkErrorCode::UnknownError);
+    return;
+  }
   vtkARSolverMesh mesh;
   const unsigned long code = vtkARSolverMesh::Prepare(this, "GmshWriter", path, this->GetInput(),
     this->DefaultPatchName, this->PointMatchingTolerance, mesh);

@@ -2,6 +2,7 @@
 #include "vtkMedialAxisDelaunay.h"
 
 #include "ARMedialAxis.h"
+#include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
 
 #include "vtkCellArray.h"
@@ -311,6 +312,25 @@ int vtkMedialAxisDelaunay::RequestData(
     return 1;
   };
 
+  vtkARInputChecks::Properties ranges;
+  ranges.OneOf("Smoothing", this->Smoothing, { "None", "Windowed Sinc", "Laplacian" })
+    .InRange("SmoothingIterations", this->SmoothingIterations, 0, 10000)
+    .AboveAndAtMost("PassBand", this->PassBand, 0.0, 2.0)
+    .InRange("RelaxationFactor", this->RelaxationFactor, 0.0, 1.0)
+    .OneOf("FeatureRegion", this->FeatureRegion, { "Above Iso-Value", "Below Iso-Value" })
+    .InRange("MinimumObjectAngle", this->MinimumObjectAngle, 0.0, 180.0, "degrees")
+    .InRange("MinimumRadiusFactor", this->MinimumRadiusFactor, 0.0, 1e6)
+    .InRange("MinimumAreaFraction", this->MinimumAreaFraction, 0.0, 1.0)
+    .InRange("MaximumNumberOfSheets", this->MaximumNumberOfSheets, 0, VTK_INT_MAX, "0: no limit")
+    .InRange("SymmetryTrimDistance", this->SymmetryTrimDistance, 0.0, VTK_DOUBLE_MAX)
+    .InRange("MaximumHoleSize", this->MaximumHoleSize, 0.0, 1e6);
+  if (!ranges.Ok())
+  {
+    std::string text = ranges.Message();
+    text.pop_back();
+    return fail("MedialAxisDelaunay: " + text);
+  }
+
   // ---- The surface: triangles only, finite coordinates.
   const vtkIdType nCells = surface->GetNumberOfCells();
   if (nCells == 0 || surface->GetNumberOfPoints() == 0)
@@ -341,16 +361,10 @@ int vtkMedialAxisDelaunay::RequestData(
     }
   }
   const vtkIdType nPoints = surface->GetNumberOfPoints();
-  for (vtkIdType i = 0; i < nPoints; ++i)
+  const std::string nonFinite = vtkARInputChecks::NonFinitePoints(surface, "the input surface");
+  if (!nonFinite.empty())
   {
-    double x[3];
-    surface->GetPoint(i, x);
-    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-    {
-      std::ostringstream msg;
-      msg << "Point " << i << " of the input surface has a non-finite coordinate (NaN or Inf).";
-      return fail(msg.str());
-    }
+    return fail(nonFinite.substr(0, nonFinite.size() - 1));
   }
   this->UpdateProgress(0.05);
 

@@ -76,36 +76,43 @@ public:
   void SetDomainConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
   void SetDomainData(vtkDataObject* data) { this->SetInputData(1, data); }
 
+  /// The properties below are not clamped: RequestData refuses a value out
+  /// of its range (Smoothing 0-2, SmoothingIterations 0-10000, PassBand
+  /// (0, 2], RelaxationFactor [0, 1], FeatureRegion 0-1, MinimumObjectAngle
+  /// [0, 180], MinimumRadiusFactor [0, 1e6], MinimumAreaFraction [0, 1],
+  /// MaximumNumberOfSheets >= 0, SymmetryTrimDistance >= 0, MaximumHoleSize
+  /// [0, 1e6]) with an error naming it, and the output is empty.
+
   ///@{
   /// Smoothing of the input surface before the Delaunay step. Default NO_SMOOTHING
   /// (windowed sinc costs more than the whole medial axis at 1e6 points).
-  vtkSetClampMacro(Smoothing, int, NO_SMOOTHING, LAPLACIAN);
+  vtkSetMacro(Smoothing, int);
   vtkGetMacro(Smoothing, int);
-  vtkSetClampMacro(SmoothingIterations, int, 0, 10000);
+  vtkSetMacro(SmoothingIterations, int);
   vtkGetMacro(SmoothingIterations, int);
   /// Pass band of the windowed sinc filter (0, 2); smaller smooths more. Default 0.1.
-  vtkSetClampMacro(PassBand, double, 1e-6, 2.0);
+  vtkSetMacro(PassBand, double);
   vtkGetMacro(PassBand, double);
   /// Relaxation factor of Laplacian smoothing. Default 0.1.
-  vtkSetClampMacro(RelaxationFactor, double, 0.0, 1.0);
+  vtkSetMacro(RelaxationFactor, double);
   vtkGetMacro(RelaxationFactor, double);
   ///@}
 
   ///@{
   /// Which side of the surface is the feature region. Default ABOVE_ISOVALUE.
-  vtkSetClampMacro(FeatureRegion, int, ABOVE_ISOVALUE, BELOW_ISOVALUE);
+  vtkSetMacro(FeatureRegion, int);
   vtkGetMacro(FeatureRegion, int);
   ///@}
 
   ///@{
   /// Pruning (see ARMedialAxis.h). Defaults 110 degrees, 0.5, 0.05, 0 (no limit).
-  vtkSetClampMacro(MinimumObjectAngle, double, 0.0, 180.0);
+  vtkSetMacro(MinimumObjectAngle, double);
   vtkGetMacro(MinimumObjectAngle, double);
-  vtkSetClampMacro(MinimumRadiusFactor, double, 0.0, 1e6);
+  vtkSetMacro(MinimumRadiusFactor, double);
   vtkGetMacro(MinimumRadiusFactor, double);
-  vtkSetClampMacro(MinimumAreaFraction, double, 0.0, 1.0);
+  vtkSetMacro(MinimumAreaFraction, double);
   vtkGetMacro(MinimumAreaFraction, double);
-  vtkSetClampMacro(MaximumNumberOfSheets, int, 0, VTK_INT_MAX);
+  vtkSetMacro(MaximumNumberOfSheets, int);
   vtkGetMacro(MaximumNumberOfSheets, int);
   ///@}
 
@@ -151,7 +158,7 @@ public:
   /// a right angle, and the extension only closes gaps that the pruning left
   /// next to the plane; a positive distance replaces a ragged end of the sheet
   /// by an exactly orthogonal strip.
-  vtkSetClampMacro(SymmetryTrimDistance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(SymmetryTrimDistance, double);
   vtkGetMacro(SymmetryTrimDistance, double);
   ///@}
 
@@ -163,7 +170,7 @@ public:
   vtkSetMacro(FillHoles, bool);
   vtkGetMacro(FillHoles, bool);
   vtkBooleanMacro(FillHoles, bool);
-  vtkSetClampMacro(MaximumHoleSize, double, 0.0, 1e6);
+  vtkSetMacro(MaximumHoleSize, double);
   vtkGetMacro(MaximumHoleSize, double);
   ///@}
 

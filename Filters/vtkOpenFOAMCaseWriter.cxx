@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkOpenFOAMCaseWriter.h"
+#include "vtkARInputChecks.h"
 #include "vtkARSolverMesh.h"
 
 #include "vtkAlgorithm.h"
@@ -1594,6 +1595,15 @@ void vtkOpenFOAMCaseWriter::WriteCase(vtkDataObject* input)
   if (path.empty())
   {
     fail("no file name is set (the case's marker file, e.g. case/case.foam)", vtkErrorCode::NoFileNameError);
+    return;
+  }
+  vtkARInputChecks::Properties ranges;
+  ranges.InRange("PointMatchingTolerance", this->PointMatchingTolerance, 0.0, 1.0,
+    "a fraction of the volume's bounding-box diagonal");
+  if (!ranges.Ok())
+  {
+    const std::string why = ranges.Message();
+    fail(why.substr(0, why.size() - 2), vtkErrorCode::UnknownError);
     return;
   }
   CaseJob job;

@@ -2,6 +2,7 @@
 #include "vtkQuadricFit.h"
 
 #include "ARSurfaceFit.h"
+#include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
 
 #include "vtkAppendPolyData.h"
@@ -261,6 +262,11 @@ int vtkQuadricFit::RequestData(
   // ---- This rank's points of the cluster (no collective call before the
   // gathers below, so that every rank reaches them).
   std::ostringstream problem;
+  problem << vtkARInputChecks::Properties()
+               .InRange("ClusterId", this->ClusterId, -1, VTK_INT_MAX, "-1 fits every point")
+               .InRange("SurfaceEdgeLength", this->SurfaceEdgeLength, 0.0, VTK_DOUBLE_MAX, "0 automatic")
+               .InRange("Margin", this->Margin, 1.0, 1e6, "in edge lengths")
+               .Message();
   std::vector<double> local;
   // [0] input points, [1] has ClusterId, [2] has Weight, [3] has LocalSize,
   // [4] largest id, [5] -(smallest id)

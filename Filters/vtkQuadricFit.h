@@ -119,8 +119,8 @@ public:
 
   ///@{
   /// The cluster to fit (points whose ClusterId equals it); -1 fits all
-  /// points. Default 0.
-  vtkSetClampMacro(ClusterId, int, -1, VTK_INT_MAX);
+  /// points. Default 0. At least -1: refused otherwise, not clamped.
+  vtkSetMacro(ClusterId, int);
   vtkGetMacro(ClusterId, int);
   ///@}
 
@@ -166,16 +166,16 @@ public:
 
   ///@{
   /// Edge length of the output triangles; 0 (default) = the median LocalSize
-  /// of the cluster's points.
-  vtkSetClampMacro(SurfaceEdgeLength, double, 0.0, VTK_DOUBLE_MAX);
+  /// of the cluster's points. At least 0: refused otherwise, not clamped.
+  vtkSetMacro(SurfaceEdgeLength, double);
   vtkGetMacro(SurfaceEdgeLength, double);
   ///@}
 
   ///@{
   /// How far the surface extends beyond the cluster's points, in edge
   /// lengths (at least 1, so that the gaps between neighbouring medial points
-  /// stay covered). Default 3.
-  vtkSetClampMacro(Margin, double, 1.0, 1.0e6);
+  /// stay covered), at most 1e6: refused otherwise, not clamped. Default 3.
+  vtkSetMacro(Margin, double);
   vtkGetMacro(Margin, double);
   ///@}
 

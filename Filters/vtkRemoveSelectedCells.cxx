@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkRemoveSelectedCells.h"
+#include "vtkARInputChecks.h"
 
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
@@ -67,6 +68,12 @@ int vtkRemoveSelectedCells::RequestData(
   if (!input || input->GetNumberOfCells() == 0)
   {
     vtkErrorMacro("RemoveSelectedCells: the input has no cells; the output is empty.");
+    return 1;
+  }
+  const std::string nonFinite = vtkARInputChecks::NonFinitePoints(input, "the input");
+  if (!nonFinite.empty())
+  {
+    vtkErrorMacro("RemoveSelectedCells: " << nonFinite << "The output is empty.");
     return 1;
   }
   if (!selection || selection->GetNumberOfNodes() == 0)

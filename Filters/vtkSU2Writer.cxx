@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSU2Writer.h"
+#include "vtkARInputChecks.h"
 #include "vtkARSolverMesh.h"
 
 #include "vtkAlgorithm.h"
@@ -33,6 +34,15 @@ void vtkSU2Writer::WriteData()
 {
   this->SetErrorCode(vtkErrorCode::NoError);
   const std::string path = this->FileName ? this->FileName : "";
+  vtkARInputChecks::Properties ranges;
+  ranges.InRange("PointMatchingTolerance", this->PointMatchingTolerance, 0.0, 1.0,
+    "a fraction of the volume's bounding-box diagonal");
+  if (!ranges.Ok())
+  {
+    vtkErrorMacro("SU2Writer: " << ranges.Message() << "Nothing is written to '" << path << "'.");
+    this->SetErrorCode(vtkErrorCode::UnknownError);
+    return;
+  }
   vtkARSolverMesh mesh;
   const unsigned long code = vtkARSolverMesh::Prepare(this, "SU2Writer", path, this->GetInput(),
     this->DefaultPatchName, this->PointMatchingTolerance, mesh);

@@ -59,7 +59,8 @@ public:
   ///@{
   /// Multiblock input: a patch point matches the nearest volume point within
   /// this fraction of the volume's bounding-box diagonal. Default 1e-6.
-  vtkSetClampMacro(PointMatchingTolerance, double, 0.0, 1.0);
+  /// In [0, 1]: refused otherwise (nothing written), not clamped.
+  vtkSetMacro(PointMatchingTolerance, double);
   vtkGetMacro(PointMatchingTolerance, double);
   ///@}
 

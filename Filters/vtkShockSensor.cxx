@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkShockSensor.h"
 
+#include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellData.h"
 #include "vtkDataObject.h"
@@ -176,6 +177,11 @@ int vtkShockSensor::RequestData(
   const vtkIdType npts = mesh.NumberOfPoints;
   const vtkIdType ncells = mesh.NumberOfCells;
 
+  problem << vtkARInputChecks::Properties()
+               .InRange("PressureGradientThreshold", this->PressureGradientThreshold, 0.0, 1.0,
+                 "a fraction of the largest |grad p|")
+               .InRange("LocalPeakFraction", this->LocalPeakFraction, 0.0, 1.0, "a fraction of the local peak; 0 off")
+               .Message();
   if (!(this->Gamma > 1.0))
   {
     problem << "Gamma must be greater than 1 (it is " << this->Gamma << "). ";

@@ -129,8 +129,8 @@ public:
 
   ///@{
   /// Fraction of the global maximum of |grad p| below which a cell is not a
-  /// shock cell. Default 0.05.
-  vtkSetClampMacro(PressureGradientThreshold, double, 0.0, 1.0);
+  /// shock cell, in [0, 1] (refused otherwise, not clamped). Default 0.05.
+  vtkSetMacro(PressureGradientThreshold, double);
   vtkGetMacro(PressureGradientThreshold, double);
   ///@}
 
@@ -138,8 +138,9 @@ public:
   /// Fraction of the local peak of |grad p| (the largest |grad p| within two
   /// rings of points) that a shock cell's mean |grad p| must reach. Keeps the
   /// shock cells at the core of a captured shock, for weak and strong shocks
-  /// alike, and drops crossings in its tails. Default 0.5; 0 disables.
-  vtkSetClampMacro(LocalPeakFraction, double, 0.0, 1.0);
+  /// alike, and drops crossings in its tails, in [0, 1] (refused otherwise,
+  /// not clamped). Default 0.5; 0 disables.
+  vtkSetMacro(LocalPeakFraction, double);
   vtkGetMacro(LocalPeakFraction, double);
   ///@}
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSmoothSurface.h"
+#include "vtkARInputChecks.h"
 
 #include "vtkCellArray.h"
 #include "vtkInformation.h"
@@ -23,6 +24,19 @@ int vtkSmoothSurface::RequestData(
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   if (!input || input->GetNumberOfPoints() == 0)
   {
+    return 1;
+  }
+  // A NaN point would spread to its neighbours with every iteration.
+  vtkARInputChecks::Properties problem;
+  problem.InRange("NumberOfIterations", this->NumberOfIterations, 0, VTK_INT_MAX)
+    .InRange("PassBand", this->PassBand, 0.0, 2.0)
+    .InRange("FeatureAngle", this->FeatureAngle, 0.0, 180.0, "degrees")
+    .InRange("EdgeAngle", this->EdgeAngle, 0.0, 180.0, "degrees")
+    .Add(vtkARInputChecks::NonFinitePoints(input, "the surface"));
+  if (!problem.Ok())
+  {
+    vtkErrorMacro(<< "SmoothSurface: " << problem.Message() << "The input passes through unchanged.");
+    output->ShallowCopy(input);
     return 1;
   }
   vtkNew<vtkPolyData> copy;

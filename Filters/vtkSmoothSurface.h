@@ -27,17 +27,21 @@ public:
   vtkTypeMacro(vtkSmoothSurface, vtkPolyDataAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  vtkSetClampMacro(NumberOfIterations, int, 0, VTK_INT_MAX);
+  /// Not clamped: values out of range (NumberOfIterations >= 0, PassBand in
+  /// [0, 2], FeatureAngle and EdgeAngle in [0, 180] degrees) are refused
+  /// with an error naming them, as a NaN or Inf point is; the input passes
+  /// through.
+  vtkSetMacro(NumberOfIterations, int);
   vtkGetMacro(NumberOfIterations, int);
-  vtkSetClampMacro(PassBand, double, 0.0, 2.0);
+  vtkSetMacro(PassBand, double);
   vtkGetMacro(PassBand, double);
   vtkSetMacro(BoundarySmoothing, bool);
   vtkGetMacro(BoundarySmoothing, bool);
   vtkSetMacro(FeatureEdgeSmoothing, bool);
   vtkGetMacro(FeatureEdgeSmoothing, bool);
-  vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
+  vtkSetMacro(FeatureAngle, double);
   vtkGetMacro(FeatureAngle, double);
-  vtkSetClampMacro(EdgeAngle, double, 0.0, 180.0);
+  vtkSetMacro(EdgeAngle, double);
   vtkGetMacro(EdgeAngle, double);
   vtkSetMacro(NonManifoldSmoothing, bool);
   vtkGetMacro(NonManifoldSmoothing, bool);

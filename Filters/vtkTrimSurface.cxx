@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkTrimSurface.h"
+#include "vtkARInputChecks.h"
 
 #include "vtkAbstractTransform.h"
 #include "vtkAppendPolyData.h"
@@ -109,6 +110,13 @@ int vtkTrimSurface::RequestData(
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   if (!input)
   {
+    return 1;
+  }
+  const std::string nonFinite = vtkARInputChecks::NonFinitePoints(input, "the surface");
+  if (!nonFinite.empty())
+  {
+    vtkErrorMacro("TrimSurface: " << nonFinite << "The input is passed through.");
+    output->ShallowCopy(input);
     return 1;
   }
   if (!this->ClipFunction)

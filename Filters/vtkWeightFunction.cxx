@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkWeightFunction.h"
 
+#include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
@@ -89,6 +90,9 @@ int vtkWeightFunction::RequestData(
   {
     problem << meshError << ". ";
   }
+  problem << vtkARInputChecks::Properties()
+               .InRange("Epsilon", this->Epsilon, 0.0, VTK_DOUBLE_MAX, "added to |qbar| in Eq. 1")
+               .Message();
 
   std::vector<Variable> variables;
   int nq = 0;

@@ -84,8 +84,9 @@ public:
   ///@{
   /// epsilon of Eq. 1, added to |qbar| to keep the normalization finite where
   /// a variable passes through zero. Default 1e-3 (in the units of the
-  /// variables: scale it with them).
-  vtkSetClampMacro(Epsilon, double, 0.0, VTK_DOUBLE_MAX);
+  /// variables: scale it with them). At least 0 and finite: refused
+  /// otherwise, not clamped.
+  vtkSetMacro(Epsilon, double);
   vtkGetMacro(Epsilon, double);
   ///@}
 

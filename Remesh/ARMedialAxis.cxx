@@ -245,6 +245,22 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     error = "the surface has no triangles.";
     return false;
   }
+  // Options out of range are refused, not clamped (the filter's own check
+  // names them first; a direct caller of the core gets the same answer).
+  if (!(options.MinimumObjectAngle >= 0.0 && options.MinimumObjectAngle <= 180.0))
+  {
+    std::ostringstream msg;
+    msg << "MinimumObjectAngle is " << options.MinimumObjectAngle << "; it must lie in [0, 180] degrees.";
+    error = msg.str();
+    return false;
+  }
+  if (!(options.MinimumRadiusFactor >= 0.0) || !std::isfinite(options.MinimumRadiusFactor))
+  {
+    std::ostringstream msg;
+    msg << "MinimumRadiusFactor is " << options.MinimumRadiusFactor << "; it must be at least 0 (and finite).";
+    error = msg.str();
+    return false;
+  }
   for (std::size_t i = 0; i < nPoints; ++i)
   {
     if (!Finite3(points + 3 * i))
@@ -517,7 +533,7 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
   out.NumberOfTetrahedra = nCells;
   std::vector<double> centre(3 * nCells), radius(nCells);
   std::vector<char> keep(nCells, 0);
-  const double minRadiusFactor = std::max(0.0, options.MinimumRadiusFactor);
+  const double minRadiusFactor = options.MinimumRadiusFactor;
   const double side = options.RegionAgainstNormals ? -1.0 : 1.0;
   ParallelFor(nCells, [&](std::size_t begin, std::size_t end) {
   for (std::size_t i = begin; i < end; ++i)
@@ -599,7 +615,7 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
   // would walk every ring in full, several times over.
   static const int EdgeIndex[4][4] = { { -1, 0, 1, 2 }, { 0, -1, 3, 4 }, { 1, 3, -1, 5 },
     { 2, 4, 5, -1 } };
-  const double minAngle = std::clamp(options.MinimumObjectAngle, 0.0, 180.0) * Pi / 180.0;
+  const double minAngle = options.MinimumObjectAngle * Pi / 180.0;
   const double sinHalf = std::sin(0.5 * minAngle);
   std::vector<std::int64_t> facetOffsets{ 0 }; // polygons of (merged) cell ids
   std::vector<std::int64_t> facetCells;

@@ -121,12 +121,13 @@ ar::MedialSheet Medial(const Surface& s, const ar::MedialAxisOptions& options = 
   return sheet;
 }
 
-std::string Refusal(const Surface& s, const ar::ClosedSurface* domain = nullptr)
+std::string Refusal(const Surface& s, const ar::ClosedSurface* domain = nullptr,
+  const ar::MedialAxisOptions& options = {})
 {
   ar::MedialSheet sheet;
   std::string error;
   EXPECT_FALSE(ar::ComputeMedialSheet(s.Points.data(), s.NumberOfPoints(), s.Normals.data(),
-    s.Triangles.data(), s.NumberOfTriangles(), {}, domain, sheet, error));
+    s.Triangles.data(), s.NumberOfTriangles(), options, domain, sheet, error));
   EXPECT_TRUE(sheet.Triangles.empty());
   return error;
 }
@@ -325,6 +326,14 @@ TEST(MedialAxis, RefusesBadInput)
 
   ar::ClosedSurface open{ { 0, 0, 0, 1, 0, 0, 0, 1, 0 }, { 0, 1, 2 } };
   EXPECT_NE(Refusal(Slab(), &open).find("not closed"), std::string::npos);
+
+  // Options out of range: refused by name (they were clamped).
+  ar::MedialAxisOptions wide;
+  wide.MinimumObjectAngle = 200.0;
+  EXPECT_NE(Refusal(Slab(), nullptr, wide).find("MinimumObjectAngle is 200"), std::string::npos);
+  ar::MedialAxisOptions negative;
+  negative.MinimumRadiusFactor = -1.0;
+  EXPECT_NE(Refusal(Slab(), nullptr, negative).find("MinimumRadiusFactor is -1"), std::string::npos);
 }
 
 namespace

@@ -1,0 +1,47 @@
+"""pvbatch script of RunMPIBadInput.py: bad input on the distributed oblique
+shock (2 pieces with a ghost level) and QuadricFit's plane (read on rank 0):
+EmbeddedRemesh with SurfaceEdgeLength 1e-9, RemovalFactor 0 and
+SurfaceEdgeLength 1e6, and FeatureCluster with a range that selects every
+node. Every rank prints, per case, one line "RESULT <case> <rank> <cells in>
+<cells out> <ran> <points of output 1> <message>" (cells in: of the filter's
+input, with the ghost levels it asked for; ran: 1 if the array the filter
+adds is there; the message from the cause's first word on), so that the
+driver sees both ranks answer, with the same refusal, and none hang.
+
+    mpiexec -np 2 pvbatch --symmetric MPIBadInputPipeline.py <pieces.pvtu> <plane.vtp>
+"""
+import sys
+
+from paraview.simple import *
+from paraview import servermanager
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+
+import artest
+
+artest.load_plugin(globals())
+messages = vtkStringOutputWindow()
+vtkOutputWindow.SetInstance(messages)
+rank = servermanager.vtkProcessModule.GetProcessModule().GetPartitionId()
+mesh = GhostCellsGenerator(Input=XMLPartitionedUnstructuredGridReader(FileName=[sys.argv[1]]))
+plane = XMLPolyDataReader(FileName=[sys.argv[2]])
+
+
+def report(case, proxy, start, added):
+    """`added`: the array the filter adds when it runs (absent when refused)."""
+    before = len(messages.GetOutput())
+    proxy.UpdatePipeline()
+    algorithm = proxy.GetClientSideObject()
+    out, second = algorithm.GetOutputDataObject(0), algorithm.GetOutputDataObject(1)
+    text = messages.GetOutput()[before:].replace("\n", " ")
+    cells = algorithm.GetInputDataObject(0, 0).GetNumberOfCells()  # its input, with the ghosts it asked for
+    ran = out.GetCellData().HasArray(added) or out.GetPointData().HasArray(added)
+    artest.say("RESULT %s %d %d %d %d %d %s" % (case, rank, cells, out.GetNumberOfCells(), int(ran),
+                                             second.GetNumberOfPoints(), text[text.find(start):][:400]))
+
+
+report("fine", EmbeddedRemesh(Input=mesh, Surfaces=[plane], SurfaceEdgeLength=1e-9), "SurfaceEdgeLength", "Region")
+report("large", EmbeddedRemesh(Input=mesh, Surfaces=[plane], SurfaceEdgeLength=1e6), "SurfaceEdgeLength", "Region")
+report("removal", EmbeddedRemesh(Input=mesh, Surfaces=[plane], RemovalFactor=0.0), "RemovalFactor", "Region")
+weight = WeightFunction(Input=mesh, Variables=["p", "rho"], ComputePointWeight=1)
+report("everything", FeatureCluster(Input=weight, SensorArray=["POINTS", "WeightFunction"], SensorRange=[-10, 10]),
+       "SensorRange", "ClusterId")

@@ -415,8 +415,9 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     {
       const auto first = static_cast<std::int64_t>(cPoints.size() / 2);
       vtkIdType count = n;
-      const double* a = curve->GetPoint(ids[0]);
-      const double* b = curve->GetPoint(ids[n - 1]);
+      double a[3], b[3]; // copies: GetPoint(id) returns one buffer for every call
+      curve->GetPoint(ids[0], a);
+      curve->GetPoint(ids[n - 1], b);
       const bool closed = n > 3 && std::hypot(a[U] - b[U], a[V] - b[V]) < 1e-9 * edge;
       if (closed)
       {

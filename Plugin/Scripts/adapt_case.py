@@ -246,15 +246,23 @@ def shock_rows(before, after, templates, h):
     return rows
 
 
-def mach_range(grid, case):
-    """(smallest, largest) Mach number of a solution, the pictures' colour scale."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
+def gas_of(case):
+    """(gamma, R) of a case's constant/thermophysicalProperties (hConst,
+    perfectGas), or None."""
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data"))
     import foam_case
-    gamma, r_gas = foam_case.gas_properties(case)[:2]
+    try:
+        return tuple(foam_case.gas_properties(case)[:2])
+    except (RuntimeError, OSError, ValueError, TypeError, AttributeError):
+        return None
+
+
+def mach_range(grid, gas):
+    """(smallest, largest) Mach number of a solution, the pictures' colour scale."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
     pd = grid.GetPointData()
     U, T = (vtk_to_numpy(pd.GetArray(n)) for n in ("U", "T"))
-    m = np.linalg.norm(U, axis=1) / np.sqrt(gamma * r_gas * T)
+    m = np.linalg.norm(U, axis=1) / np.sqrt(gas[0] * gas[1] * T)
     return float(m.min()), float(m.max())
 
 
@@ -298,16 +306,33 @@ def x_display():
     return _display[0][1], None
 
 
-def picture(case, time_name, surfaces_vtp, png, title, mach):
-    """shock_pictures.py in a child pvpython (on a private Xvfb without an X
-    display; a pvbatch child of pvbatch could not open its window). Returns
-    None, or why there is no picture."""
+def picture(grid, surfaces_vtp, png, title, mach, gas):
+    """shock_pictures.py on `grid` (a solution this script holds, written to
+    a temporary .vtu: reading the case again in the child cost a minute on
+    1e6 cells) in a child pvpython (on a private Xvfb without an X display;
+    a pvbatch child of pvbatch could not open its window). Returns None, or
+    why there is no picture."""
     import shutil
-    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shock_pictures.py")
-    cmd = [shutil.which("pvpython") or "pvpython", script, case, time_name, surfaces_vtp, png, "--title", title,
-           "--mach-range", "%.6g" % mach[0], "%.6g" % mach[1]]
-    if mach is None:
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+    if mach is None or gas is None:
         return "no Mach number for the colour scale (the gas of constant/thermophysicalProperties, or U and T)"
+    vtu = png[:-4] + ".tmp.vtu"
+    w = vtkXMLUnstructuredGridWriter()
+    w.SetInputData(grid)
+    w.SetFileName(vtu)
+    w.SetDataModeToBinary()
+    w.SetCompressorTypeToNone()
+    w.Write()
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shock_pictures.py")
+    cmd = [shutil.which("pvpython") or "pvpython", script, vtu, "0", surfaces_vtp, png, "--title", title,
+           "--mach-range", "%.6g" % mach[0], "%.6g" % mach[1], "--gas", "%.17g" % gas[0], "%.17g" % gas[1]]
+    try:
+        return _run_picture(cmd, png)
+    finally:
+        os.remove(vtu)
+
+
+def _run_picture(cmd, png):
     display, why = x_display()
     if display is None:
         return why
@@ -453,9 +478,10 @@ def main():
         w.SetFileName(surfaces_vtp)
         w.SetDataModeToBinary()
         w.Write()
+        gas = gas_of(current)
         try:
-            mach = mach_range(before, current)
-        except (RuntimeError, OSError, ValueError, TypeError, AttributeError):
+            mach = mach_range(before, gas) if gas else None
+        except (ValueError, TypeError, AttributeError):
             mach = None  # the pictures say why there are none
         SaveData(os.path.join(case, "cycle%d.foam" % k), proxy=adapt, SourceCase=current, SourceTime=time_name,
                  StartTime="0")
@@ -499,12 +525,13 @@ def main():
         report.append("")
         pictures = [("cycle %d, before (the input's solution)" % k, os.path.join(target, "cycle%d_before.png" % k),
                      None)]
-        pictures[0] = pictures[0][:2] + (picture(current, time_name, surfaces_vtp, pictures[0][1],
-                                                 "cycle %d: the input's solution, its mesh" % k, mach),)
+        pictures[0] = pictures[0][:2] + (picture(before, surfaces_vtp, pictures[0][1],
+                                                 "cycle %d: the input's solution, its mesh" % k, mach, gas),)
         if not args.solve:
             png = os.path.join(target, "cycle%d_start.png" % k)
             pictures.append(("cycle %d, the adapted mesh with the interpolated start field" % k, png,
-                             picture(case, "0", surfaces_vtp, png, "cycle %d: adapted mesh, start field" % k, mach)))
+                             picture(after, surfaces_vtp, png, "cycle %d: adapted mesh, start field" % k, mach,
+                                     gas)))
         report += picture_rows(pictures)
         write_report()
         for p in (reader, adapt):
@@ -541,8 +568,8 @@ def main():
             report += shock_rows(None, measure_shock(solved, stations), templates, h_in) + [""]
             png = os.path.join(target, "cycle%d_after.png" % k)
             report += picture_rows([("cycle %d, after (solved on the adapted mesh)" % k, png,
-                                     picture(case, latest_time(case), surfaces_vtp, png,
-                                             "cycle %d: solved on the adapted mesh" % k, mach))])
+                                     picture(solved, surfaces_vtp, png,
+                                             "cycle %d: solved on the adapted mesh" % k, mach, gas))])
             write_report()
             current = case
     write_report()

@@ -5,10 +5,11 @@ paper's Fig. 10 (pvpython; needs an X
 display: adapt_case.py runs it under xvfb-run when there is none).
 
     pvpython Plugin/Scripts/shock_pictures.py CASE TIME SURFACES.vtp OUT.png
-            [--mach-range LO HI] [--title TEXT] [--zoom F]
+            [--mach-range LO HI] [--title TEXT] [--zoom F] [--gas GAMMA R]
 
-CASE          an OpenFOAM case (read with ParaView's OpenFOAM reader)
-TIME          the time to show (a time directory's name)
+CASE          an OpenFOAM case (read with VTK's OpenFOAM reader), or a .vtu
+              with point data U and T (then --gas GAMMA R is needed)
+TIME          the time to show (a time directory's name; ignored for a .vtu)
 SURFACES.vtp  AdaptToShocks' fitted surfaces (its output port 1)
 OUT.png       the picture (1200 x 900)
 
@@ -38,6 +39,8 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--mach-range", nargs=2, type=float)
     ap.add_argument("--title", default="")
+    ap.add_argument("--gas", nargs=2, type=float, metavar=("GAMMA", "R"),
+                    help="the gas (default: the case's constant/thermophysicalProperties)")
     ap.add_argument("--zoom", type=float, default=0.35,
                     help="the view's size as a fraction of the surfaces' extent (default 0.35)")
     a = ap.parse_args()
@@ -48,24 +51,35 @@ def main():
     from paraview import servermanager
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
-    gamma, r_gas = foam_case.gas_properties(a.case)[:2]
-    # VTK's reader, not the proxy: the proxy's SkipZeroTime takes effect only
-    # after the time list was made, and a case written by adapt_case.py has
-    # only its start time 0 until it is solved.
-    from vtkmodules.vtkIOGeometry import vtkOpenFOAMReader
-    foam = vtkOpenFOAMReader()
-    foam.SetFileName(os.path.join(a.case, "shock_pictures.foam"))
-    foam.SkipZeroTimeOff()
-    foam.UpdateInformation()
-    foam.DisableAllPatchArrays()
-    foam.SetPatchArrayStatus("internalMesh", 1)
-    foam.EnableAllCellArrays()
-    foam.UpdateTimeStep(float(a.time))
-    grid = foam.GetOutput()
-    while grid is not None and grid.IsA("vtkMultiBlockDataSet"):
-        grid = grid.GetBlock(0)
+    if a.case.endswith(".vtu"):
+        # a grid adapt_case.py already holds (point data U and T), with its gas
+        if a.gas is None:
+            sys.exit("shock_pictures.py: a .vtu source needs --gas GAMMA R")
+        gamma, r_gas = a.gas
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+        vtu = vtkXMLUnstructuredGridReader()
+        vtu.SetFileName(a.case)
+        vtu.Update()
+        grid = vtu.GetOutput()
+    else:
+        gamma, r_gas = a.gas if a.gas else foam_case.gas_properties(a.case)[:2]
+        # VTK's reader, not the proxy: the proxy's SkipZeroTime takes effect
+        # only after the time list was made, and a case written by
+        # adapt_case.py has only its start time 0 until it is solved.
+        from vtkmodules.vtkIOGeometry import vtkOpenFOAMReader
+        foam = vtkOpenFOAMReader()
+        foam.SetFileName(os.path.join(a.case, "shock_pictures.foam"))
+        foam.SkipZeroTimeOff()
+        foam.UpdateInformation()
+        foam.DisableAllPatchArrays()
+        foam.SetPatchArrayStatus("internalMesh", 1)
+        foam.EnableAllCellArrays()
+        foam.UpdateTimeStep(float(a.time))
+        grid = foam.GetOutput()
+        while grid is not None and grid.IsA("vtkMultiBlockDataSet"):
+            grid = grid.GetBlock(0)
     if grid is None or grid.GetPointData().GetArray("U") is None or grid.GetPointData().GetArray("T") is None:
-        sys.exit("shock_pictures.py: %s at time %s has no internalMesh with U and T" % (a.case, a.time))
+        sys.exit("shock_pictures.py: %s at time %s has no volume with U and T point data" % (a.case, a.time))
     reader = PVTrivialProducer()
     reader.GetClientSideObject().SetOutput(grid)
     P = vtk_to_numpy(grid.GetPoints().GetData())

@@ -52,9 +52,6 @@ from paraview import servermanager  # noqa: E402
 from paraview.vtk.util import numpy_support as nps  # noqa: E402
 import numpy as np  # noqa: E402
 from vtkmodules.vtkCommonDataModel import VTK_TETRA  # noqa: E402
-from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkPolyData  # noqa: E402
-from vtkmodules.vtkFiltersCore import vtkProbeFilter  # noqa: E402
 
 
 
@@ -90,18 +87,11 @@ MAX_SHOCK_ANGLE_ERROR = 1.0  # degrees
 
 def probe_p(grid, pts):
     """p probed at the points (n x 3) in `grid`, and which points lie inside it
-    (vtkProbeFilter). Also used by make_validation_case.py."""
-    vp = vtkPoints()
-    vp.SetData(nps.numpy_to_vtk(np.ascontiguousarray(pts, dtype=np.float64), deep=1))
-    pd = vtkPolyData()
-    pd.SetPoints(vp)
-    pf = vtkProbeFilter()
-    pf.SetInputData(pd)
-    pf.SetSourceData(grid)
-    pf.Update()
-    out = pf.GetOutput().GetPointData()
-    return (nps.vtk_to_numpy(out.GetArray("p")).astype(np.float64),
-            nps.vtk_to_numpy(out.GetArray(pf.GetValidPointMaskArrayName())).astype(bool))
+    (vtkProbeFilter, Plugin/Scripts/shock_measure.py's probe). Also used by
+    make_validation_case.py."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Plugin", "Scripts"))
+    import shock_measure
+    return shock_measure.probe(grid, pts, "p")
 
 
 def measure_shock(grid, tip, axis, half_angle, p1, p2):

@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -317,32 +318,22 @@ bool ReadDictionary(const fs::path& path, std::vector<Entry>& entries,
 /// shortest text that reads back as that float: the source's own digits.
 void AppendNumber(std::string& s, double v, bool single)
 {
-  char buffer[40];
-  int n = 0;
-  if (single || static_cast<double>(static_cast<float>(v)) == v)
-  {
-    const float f = static_cast<float>(v);
-    for (int p = 6; p <= 9; ++p)
-    {
-      n = std::snprintf(buffer, sizeof(buffer), "%.*g", p, static_cast<double>(f));
-      if (std::strtof(buffer, nullptr) == f)
-      {
-        break;
-      }
-    }
-  }
-  else
-  {
-    for (int p = 15; p <= 17; ++p)
-    {
-      n = std::snprintf(buffer, sizeof(buffer), "%.*g", p, v);
-      if (std::strtod(buffer, nullptr) == v)
-      {
-        break;
-      }
-    }
-  }
-  s.append(buffer, static_cast<size_t>(n));
+  // std::to_chars without a format: the shortest text that reads back as
+  // the same value, in one call (not %.*g at rising precisions with
+  // snprintf, each read back with strtod)
+  char buffer[64];
+  const std::to_chars_result r = (single || static_cast<double>(static_cast<float>(v)) == v)
+    ? std::to_chars(buffer, buffer + sizeof(buffer), static_cast<float>(v))
+    : std::to_chars(buffer, buffer + sizeof(buffer), v);
+  s.append(buffer, r.ptr);
+}
+
+/// An integer as text (std::to_chars), appended.
+void AppendLabel(std::string& s, long long v)
+{
+  char buffer[24];
+  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), v);
+  s.append(buffer, r.ptr);
 }
 
 bool IsNumber(const std::string& text, double* value = nullptr)
@@ -1169,14 +1160,15 @@ struct CaseJob
     s = Header("faceList", location, "faces");
     s += std::to_string(nFaces) + "\n(\n";
     auto appendFace = [&s](const vtkIdType* ids, vtkIdType n) {
-      s += std::to_string(n) + '(';
+      AppendLabel(s, n);
+      s += '(';
       for (vtkIdType i = 0; i < n; ++i)
       {
         if (i)
         {
           s += ' ';
         }
-        s += std::to_string(ids[i]);
+        AppendLabel(s, ids[i]);
       }
       s += ")\n";
     };
@@ -1201,13 +1193,15 @@ struct CaseJob
     s += std::to_string(nFaces) + "\n(\n";
     for (vtkIdType o : owner)
     {
-      s += std::to_string(o) + '\n';
+      AppendLabel(s, o);
+      s += '\n';
     }
     for (const auto& p : m.Patches)
     {
       for (vtkIdType c : p.Cells)
       {
-        s += std::to_string(c) + '\n';
+        AppendLabel(s, c);
+        s += '\n';
       }
     }
     s += ")\n";
@@ -1220,7 +1214,8 @@ struct CaseJob
     s += std::to_string(nInternal) + "\n(\n";
     for (vtkIdType n : neighbour)
     {
-      s += std::to_string(n) + '\n';
+      AppendLabel(s, n);
+      s += '\n';
     }
     s += ")\n";
     if (!Save(dir / "neighbour", s, error))

@@ -271,9 +271,8 @@ _display = []  # (Xvfb process, ":N") once started
 
 def x_display():
     """$DISPLAY, or a private Xvfb on the first free display (-displayfd:
-    it names the display once it accepts connections; `xvfb-run -a` raced
-    with other servers and left a child 'bad X server connection' now and
-    then). Returns (":N", None) or (None, why there is none)."""
+    it names the display once it accepts connections) that does not reset
+    (-noreset). Returns (":N", None) or (None, why there is none)."""
     import atexit
     import select
     import shutil
@@ -286,7 +285,10 @@ def x_display():
     if xvfb is None:
         return None, "no X display and no Xvfb (apt-get install xvfb, or run under an X server)"
     rfd, wfd = os.pipe()
-    proc = subprocess.Popen([xvfb, "-displayfd", str(wfd), "-screen", "0", "1600x1200x24", "-nolisten", "tcp"],
+    # -noreset: Xvfb otherwise resets when its last client leaves and drops
+    # one that connected meanwhile ("bad X server connection" in VTK)
+    proc = subprocess.Popen([xvfb, "-displayfd", str(wfd), "-screen", "0", "1600x1200x24", "-nolisten", "tcp",
+                             "-noreset"],
                             pass_fds=(wfd,), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL, start_new_session=True)
     os.close(wfd)
@@ -338,9 +340,9 @@ def _run_picture(cmd, png):
         return why
     env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_", "HYDRA_"))}
     env["DISPLAY"] = display
-    # XOpenDisplay fails now and then on a loaded machine ("bad X server
-    # connection", 1 in 4 to 6 tries here, on a private Xvfb and on a
-    # long-running one alike): try again
+    # An X server started without -noreset (a $DISPLAY given by the user)
+    # drops a client that connects while it resets after its last client
+    # left ("bad X server connection", 1 in 4 to 6 tries here): try again
     for attempt in range(5):
         r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         if r.returncode == 0 and os.path.isfile(png):

@@ -69,8 +69,12 @@ plugin="$build/lib/paraview-5.11/plugins/AdaptiveRedistribution/AdaptiveRedistri
 echo "== plugin: $plugin"
 
 # pvbatch renders through X: use a virtual display when there is none.
+# -noreset: by default Xvfb resets when its last client leaves, and drops a
+# client that connected meanwhile (its XOpenDisplay fails: VTK aborts with
+# "bad X server connection"); VTK opens and closes connections in quick
+# succession, so about one run in three of the main job died that way.
 x=()
-if [[ -z "${DISPLAY:-}" ]]; then x=(xvfb-run -a -s "-screen 0 1600x1200x24"); fi
+if [[ -z "${DISPLAY:-}" ]]; then x=(xvfb-run -a -s "-screen 0 1600x1200x24 -noreset"); fi
 
 if [[ "$mode" == "run" ]]; then
   mkdir -p "$output"

@@ -29,7 +29,7 @@ for f in (png, png + ".txt"):
 env = artest.child_environment()
 env["AR_GUI_SCREENSHOT"] = png
 env["AR_GUI_SOURCE"] = source
-cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "paraview", "--dr",
+cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24 -noreset", "paraview", "--dr",
        "--script=" + os.path.join(here, "GUISurfaceEditingScript.py"), "--exit"]
 artest.say("$ " + " ".join(cmd))
 proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,

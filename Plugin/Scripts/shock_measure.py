@@ -15,6 +15,8 @@ shock's position is the crossing f = 1/2 nearest the surface (s = 0), and its
 f >= 0.9 behind it.  A line is rejected (not averaged) when it leaves the
 domain at either end, when a fifth is not a plateau (the spread of f there
 over 0.1), or when the jump is below 1 % of q1: it did not cross a clean shock.
+Where the flow behind the shock is not uniform (a cone's), pass the exact
+states: `measure(..., states=(q1, q2))`, q2 the value just behind the shock.
 
     import shock_measure as sm
     r = sm.measure(grid, origins, normals, half_length=0.02)   # one dict
@@ -65,10 +67,13 @@ def _crossing(s, f, i, level):
     return s[i] if df == 0 else s[i] + (level - f[i]) * (s[i + 1] - s[i]) / df
 
 
-def profile(s, q):
+def profile(s, q, states=None):
     """(position, thickness, q1, q2) of the rise of q along the line at the
     abscissae s (increasing), or None when the line crossed no clean shock;
-    see the module docstring."""
+    see the module docstring. `states` (q1, q2): the exact states ahead of
+    and just behind the shock, for flows that are not uniform behind it (a
+    cone's: p keeps rising towards the body); then only the upstream fifth
+    must be a plateau."""
     n = len(s)
     k = max(3, n // 5)
     if n < 3 * k:
@@ -78,11 +83,11 @@ def profile(s, q):
         flipped = True
     else:
         flipped = False
-    q1, q2 = np.median(q[:k]), np.median(q[-k:])
+    q1, q2 = (np.median(q[:k]), np.median(q[-k:])) if states is None else states
     if q2 - q1 <= MIN_JUMP * max(abs(q1), 1e-300):
         return None
     f = (q - q1) / (q2 - q1)
-    if np.ptp(f[:k]) > PLATEAU_SPREAD or np.ptp(f[-k:]) > PLATEAU_SPREAD:
+    if np.ptp(f[:k]) > PLATEAU_SPREAD or (states is None and np.ptp(f[-k:]) > PLATEAU_SPREAD):
         return None
     up = np.where((f[:-1] < 0.5) & (f[1:] >= 0.5))[0]
     if len(up) == 0:
@@ -104,7 +109,7 @@ def profile(s, q):
     return (-pos if flipped else pos), s_hi - s_lo, q1, q2
 
 
-def measure(grid, origins, normals, half_length, samples=801, name="p"):
+def measure(grid, origins, normals, half_length, samples=801, name="p", states=None):
     """Probe `name` on the lines origins[i] + s normals[i], |s| <= half_length,
     and measure each line's profile.  Returns a dict of per-line arrays:
     valid (bool), offset (position of f = 1/2 along the normal, from the
@@ -125,7 +130,7 @@ def measure(grid, origins, normals, half_length, samples=801, name="p"):
     for i in range(m):
         if not ok[i].all():
             continue
-        res = profile(s, q[i])
+        res = profile(s, q[i], states)
         if res is None:
             continue
         r["valid"][i] = True

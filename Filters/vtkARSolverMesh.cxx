@@ -79,6 +79,19 @@ FaceKey MakeKey(const vtkIdType* ids, int n)
   return k;
 }
 
+/// The key of local face f of a cell (`cell`: its point ids, VTK order).
+FaceKey CellFaceKey(unsigned char type, const vtkIdType* cell, int f)
+{
+  const int* face = Face(type, f);
+  const int n = FaceSize(face);
+  vtkIdType fids[4];
+  for (int i = 0; i < n; ++i)
+  {
+    fids[i] = cell[face[i]];
+  }
+  return MakeKey(fids, n);
+}
+
 struct FaceKeyHash
 {
   size_t operator()(const FaceKey& k) const
@@ -437,14 +450,7 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     const double volume = ar::CellVolume(shape, x);
     for (int f = 0; f < NumberOfFaces(type); ++f)
     {
-      const int* face = Face(type, f);
-      const int n = FaceSize(face);
-      vtkIdType fids[4];
-      for (int i = 0; i < n; ++i)
-      {
-        fids[i] = cell[face[i]];
-      }
-      FaceRecord& record = faces[MakeKey(fids, n)];
+      FaceRecord& record = faces[CellFaceKey(type, cell, f)];
       if (record.Count == 0)
       {
         record.Cell = c;
@@ -714,14 +720,7 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
     for (int f = 0; f < NumberOfFaces(type); ++f)
     {
-      const int* face = Face(type, f);
-      const int n = FaceSize(face);
-      vtkIdType fids[4];
-      for (int i = 0; i < n; ++i)
-      {
-        fids[i] = cell[face[i]];
-      }
-      FaceRecord& record = faces[MakeKey(fids, n)];
+      FaceRecord& record = faces[CellFaceKey(type, cell, f)];
       if (record.Count == 1 && record.Patch < 0)
       {
         if (defaultPatch < 0)
@@ -782,14 +781,7 @@ void vtkARSolverMesh::GetInternalFaces(std::vector<vtkIdType>& owner,
       const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
       for (int f = 0; f < NumberOfFaces(type); ++f)
       {
-        const int* face = Face(type, f);
-        const int n = FaceSize(face);
-        vtkIdType fids[4];
-        for (int i = 0; i < n; ++i)
-        {
-          fids[i] = cell[face[i]];
-        }
-        const FaceKey key = MakeKey(fids, n);
+        const FaceKey key = CellFaceKey(type, cell, f);
         auto it = open.find(key);
         if (it == open.end())
         {

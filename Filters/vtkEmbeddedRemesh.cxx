@@ -65,6 +65,37 @@ vtkStandardNewMacro(vtkEmbeddedRemesh);
 
 namespace
 {
+/// Area and bounding-box diagonal of a triangle soup: the job-size
+/// estimate's surface terms, in the serial and the MPI driver (T: the index
+/// type; the MPI driver broadcasts the triangles as doubles).
+template <typename T>
+void SurfaceAreaAndDiagonal(
+  const std::vector<double>& points, const std::vector<T>& tris, double& area, double& diagonal)
+{
+  area = 0.0;
+  double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+  double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  for (std::size_t t = 0; t + 2 < tris.size(); t += 3)
+  {
+    const double* a = &points[3 * static_cast<std::size_t>(tris[t])];
+    const double* b = &points[3 * static_cast<std::size_t>(tris[t + 1])];
+    const double* c = &points[3 * static_cast<std::size_t>(tris[t + 2])];
+    const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+    const double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+    double w[3];
+    vtkMath::Cross(u, v, w);
+    area += 0.5 * vtkMath::Norm(w);
+    for (const double* x : { a, b, c })
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        lo[k] = std::min(lo[k], x[k]);
+        hi[k] = std::max(hi[k], x[k]);
+      }
+    }
+  }
+  diagonal = std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi));
+}
 /// The prism-layer options from the filter's properties (NumberOfLayers = 0
 /// when LayerType is Tetrahedra). `edge`: the surface edge length, for the
 /// automatic first layer (the stack half an edge high). False with `problem` naming the
@@ -878,29 +909,8 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   std::string error;
   {
     // The job's size, before CGAL or TetGen allocate it.
-    double area = 0.0;
-    double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
-    double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
-    for (std::size_t t = 0; t < sTris.size(); t += 3)
-    {
-      const double* a = &sPoints[3 * sTris[t]];
-      const double* b = &sPoints[3 * sTris[t + 1]];
-      const double* c = &sPoints[3 * sTris[t + 2]];
-      const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
-      const double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
-      double w[3];
-      vtkMath::Cross(u, v, w);
-      area += 0.5 * vtkMath::Norm(w);
-      for (const double* x : { a, b, c })
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          lo[k] = std::min(lo[k], x[k]);
-          hi[k] = std::max(hi[k], x[k]);
-        }
-      }
-    }
-    const double diagonal = std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi));
+    double area = 0.0, diagonal = 0.0;
+    SurfaceAreaAndDiagonal(sPoints, sTris, area, diagonal);
     if (!vtkEmbeddedRemeshJobFits(this, 3, area, diagonal, edge, inputSize, ar::ComputeStatistics(tets).TotalVolume,
           static_cast<double>(tets.NumberOfTetrahedra()), error))
     {
@@ -1495,28 +1505,8 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   }
   {
     // The job's size (the same on every rank: S and the sums are global).
-    double area = 0.0;
-    double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
-    double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
-    for (std::size_t t = 0; t < sTris.size(); t += 3)
-    {
-      const double* a = &sPoints[3 * static_cast<std::size_t>(sTris[t])];
-      const double* b = &sPoints[3 * static_cast<std::size_t>(sTris[t + 1])];
-      const double* c = &sPoints[3 * static_cast<std::size_t>(sTris[t + 2])];
-      const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
-      const double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
-      double w[3];
-      vtkMath::Cross(u, v, w);
-      area += 0.5 * vtkMath::Norm(w);
-      for (const double* x : { a, b, c })
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          lo[k] = std::min(lo[k], x[k]);
-          hi[k] = std::max(hi[k], x[k]);
-        }
-      }
-    }
+    double area = 0.0, diagonal = 0.0;
+    SurfaceAreaAndDiagonal(sPoints, sTris, area, diagonal);
     double volume = 0.0;
     for (std::size_t t = 0; t < nT; ++t)
     {
@@ -1528,8 +1518,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
       }
     }
     vtkARMeshKernels::AllReduceSum(&volume, 1);
-    if (!vtkEmbeddedRemeshJobFits(this, 3, area, std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi)), edge,
-          inputSize, volume, nOwned, problem))
+    if (!vtkEmbeddedRemeshJobFits(this, 3, area, diagonal, edge, inputSize, volume, nOwned, problem))
     {
       return passThrough(); // the same verdict on every rank
     }

@@ -430,11 +430,13 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
         line.push_back(x[U]);
         line.push_back(x[V]);
       }
-      // vtkSplineFilter leaves the remainder of the length as the last
-      // segment (0.3 of the edge on the validation wedge): its triangles
-      // were 0.19 of the requested size, and the solver's time step with
-      // them. An end segment under half the edge shares the two last
-      // segments' length with its neighbour (the middle point moves to
+      // An end segment of the resampled curve came out at 0.3 of the edge
+      // on the validation wedge's outlet end (vtkSplineFilter spaces its
+      // points evenly along each polyline it is given, so the short piece
+      // comes from the cut's polylines; the cause is not pinned down): its
+      // triangles were 0.19 of the requested size, and the solver's time
+      // step with them. An end segment under half the edge shares the two
+      // last segments' length with its neighbour (the middle point moves to
       // the midpoint of its neighbours: both between 0.5 and 1 edge).
       auto segment = [&line](vtkIdType i, vtkIdType j) {
         return std::hypot(line[2 * i] - line[2 * j], line[2 * i + 1] - line[2 * j + 1]);

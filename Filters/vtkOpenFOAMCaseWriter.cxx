@@ -336,6 +336,17 @@ void AppendLabel(std::string& s, long long v)
   s.append(buffer, r.ptr);
 }
 
+/// Integers as text, one per line (a labelList's body).
+template <typename Labels>
+void AppendLabelLines(std::string& s, const Labels& labels)
+{
+  for (const auto v : labels)
+  {
+    AppendLabel(s, v);
+    s += '\n';
+  }
+}
+
 bool IsNumber(const std::string& text, double* value = nullptr)
 {
   if (text.empty())
@@ -1191,18 +1202,10 @@ struct CaseJob
 
     s = Header("labelList", location, "owner", note);
     s += std::to_string(nFaces) + "\n(\n";
-    for (vtkIdType o : owner)
-    {
-      AppendLabel(s, o);
-      s += '\n';
-    }
+    AppendLabelLines(s, owner);
     for (const auto& p : m.Patches)
     {
-      for (vtkIdType c : p.Cells)
-      {
-        AppendLabel(s, c);
-        s += '\n';
-      }
+      AppendLabelLines(s, p.Cells);
     }
     s += ")\n";
     if (!Save(dir / "owner", s, error))
@@ -1212,11 +1215,7 @@ struct CaseJob
 
     s = Header("labelList", location, "neighbour", note);
     s += std::to_string(nInternal) + "\n(\n";
-    for (vtkIdType n : neighbour)
-    {
-      AppendLabel(s, n);
-      s += '\n';
-    }
+    AppendLabelLines(s, neighbour);
     s += ")\n";
     if (!Save(dir / "neighbour", s, error))
     {

@@ -470,7 +470,8 @@ def main():
         depth = [a for a in range(3) if len(np.unique(P_in[:, a])) == 2]
         # lines 8 of the FIRST input's cells either side: later inputs are
         # finer at the shock than the shock they carry is thin
-        h_first = h_first if k > 1 else h_in
+        if k == 1:
+            h_first = h_in
         stations = shock_stations(surfaces, h_first, depth[0] if depth else None)
         shock_before = measure_shock(before, stations)
         from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
@@ -525,15 +526,15 @@ def main():
                        "|" + "---:|" * len(counts), "| " + " | ".join(str(int(c)) for c in counts) + " |"]
         report += shock_rows(shock_before, None, templates, h_in)
         report.append("")
-        pictures = [("cycle %d, before (the input's solution)" % k, os.path.join(target, "cycle%d_before.png" % k),
-                     None)]
-        pictures[0] = pictures[0][:2] + (picture(before, surfaces_vtp, pictures[0][1],
-                                                 "cycle %d: the input's solution, its mesh" % k, mach, gas),)
+        def shown(label, grid, name, title):
+            png = os.path.join(target, "cycle%d_%s.png" % (k, name))
+            return label, png, picture(grid, surfaces_vtp, png, title, mach, gas)
+
+        pictures = [shown("cycle %d, before (the input's solution)" % k, before, "before",
+                          "cycle %d: the input's solution, its mesh" % k)]
         if not args.solve:
-            png = os.path.join(target, "cycle%d_start.png" % k)
-            pictures.append(("cycle %d, the adapted mesh with the interpolated start field" % k, png,
-                             picture(after, surfaces_vtp, png, "cycle %d: adapted mesh, start field" % k, mach,
-                                     gas)))
+            pictures.append(shown("cycle %d, the adapted mesh with the interpolated start field" % k, after, "start",
+                                  "cycle %d: adapted mesh, start field" % k))
         report += picture_rows(pictures)
         write_report()
         for p in (reader, adapt):
@@ -568,10 +569,8 @@ def main():
             report += ["", "solved in %.1f s in all, latest time %s" % (total, latest_time(case))]
             solved = read_solution(case, latest_time(case))
             report += shock_rows(None, measure_shock(solved, stations), templates, h_in) + [""]
-            png = os.path.join(target, "cycle%d_after.png" % k)
-            report += picture_rows([("cycle %d, after (solved on the adapted mesh)" % k, png,
-                                     picture(solved, surfaces_vtp, png,
-                                             "cycle %d: solved on the adapted mesh" % k, mach, gas))])
+            report += picture_rows([shown("cycle %d, after (solved on the adapted mesh)" % k, solved, "after",
+                                          "cycle %d: solved on the adapted mesh" % k)])
             write_report()
             current = case
     write_report()

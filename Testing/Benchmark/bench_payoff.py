@@ -76,8 +76,9 @@ def read_latest(case):
 
 
 def exact_lines(c, grid):
-    """(origins, normals, half length, tip, axis-ish) of the lines normal to
-    the exact shock, and a function giving a midpoint's shock angle."""
+    """(origins, normals, half length, the exact shock angle, a function
+    giving the shock angle of a rise's midpoint seen from the tip) of the
+    lines normal to the exact shock."""
     beta, _, _ = mvc.theory(c)
     b = math.radians(beta)
     P = np.array(grid.GetPoints().GetData())

@@ -36,6 +36,12 @@
 #include "vtkStringArray.h"
 #include "vtkTriangleFilter.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkCellDataToPointData.h"
+#include "vtkPolygon.h"
+#include "vtkStaticCellLocator.h"
+#include "vtkCellLocator.h"
+#include "vtkShockSensor.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
 #include <array>
@@ -69,6 +75,198 @@ double Median(std::vector<double>& v)
   return v[mid];
 }
 
+
+/// Lower-case copy.
+std::string LowerCase(const char* s)
+{
+  std::string out(s ? s : "");
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
+  return out;
+}
+
+/// The one-component array of `domain` that ShockCentring reads: `name`, or
+/// with "(automatic)" (or none) the pressure, else the density, by the names
+/// solvers write (vtkShockSensor::KnownArrayNames), point data first. Null
+/// when there is none; `used` names it.
+vtkDataArray* CentringArrayOf(vtkDataSet* domain, const char* name, bool& cellData, std::string& used)
+{
+  cellData = false;
+  if (!domain)
+  {
+    return nullptr;
+  }
+  std::vector<std::string> wanted;
+  const bool automatic = !name || !*name || std::string(name) == vtkShockSensor::AutomaticArrayName;
+  if (automatic)
+  {
+    for (const int idx : { vtkShockSensor::PRESSURE, vtkShockSensor::DENSITY })
+    {
+      for (const char* const* n = vtkShockSensor::KnownArrayNames(idx); *n; ++n)
+      {
+        wanted.push_back(LowerCase(*n));
+      }
+    }
+  }
+  else
+  {
+    wanted.push_back(LowerCase(name));
+  }
+  for (const std::string& want : wanted)
+  {
+    for (int w = 0; w < 2; ++w)
+    {
+      vtkDataSetAttributes* data = w == 0 ? static_cast<vtkDataSetAttributes*>(domain->GetPointData())
+                                          : static_cast<vtkDataSetAttributes*>(domain->GetCellData());
+      for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+      {
+        vtkDataArray* array = data->GetArray(a);
+        if (array && array->GetName() && array->GetNumberOfComponents() == 1 &&
+          (automatic ? LowerCase(array->GetName()) == want : std::string(array->GetName()) == name))
+        {
+          cellData = w == 1;
+          used = array->GetName();
+          return array;
+        }
+      }
+    }
+  }
+  return nullptr;
+}
+
+/**
+ * The values of a point array of `domain` at `points` (x y z each), NaN
+ * where none of this rank's cells holds a point. Under MPI every rank probes
+ * its own piece and the values are averaged over the ranks that found the
+ * point (a point in a ghost cell is found twice, with the same value up to
+ * round-off): every rank must call this with the same points.
+ */
+std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, bool cellData,
+  const std::vector<double>& points, double tolerance)
+{
+  const vtkIdType m = static_cast<vtkIdType>(points.size() / 3);
+  std::vector<double> acc(2 * static_cast<std::size_t>(m), 0.0); // value sums, then counts
+  vtkSmartPointer<vtkDataSet> source;
+  vtkDataArray* values = nullptr;
+  if (domain && domain->GetNumberOfCells() > 0 && arrayName)
+  {
+    // Only the one array: the probe interpolates nothing else.
+    source.TakeReference(domain->NewInstance());
+    source->CopyStructure(domain);
+    vtkDataArray* a = cellData ? domain->GetCellData()->GetArray(arrayName) : domain->GetPointData()->GetArray(arrayName);
+    if (a && cellData)
+    {
+      source->GetCellData()->AddArray(a);
+      vtkNew<vtkCellDataToPointData> c2p;
+      c2p->SetInputData(source);
+      c2p->Update();
+      source = c2p->GetOutput();
+      values = source->GetPointData()->GetArray(arrayName);
+    }
+    else if (a)
+    {
+      source->GetPointData()->AddArray(a);
+      values = a;
+    }
+  }
+  if (values && m > 0)
+  {
+    // vtkCellLocator, serial, on purpose: vtkStaticCellLocator builds its bins
+    // with threads, and the order of the cells in a bin, so the cell it finds
+    // for a point on a face (or within the tolerance of the boundary), varied
+    // from run to run: the bundled cone's centring found 2411 to 2415 samples
+    // (with one thread, the same every time), and vtkProbeFilter did too.
+    vtkNew<vtkCellLocator> locator;
+    locator->SetDataSet(source);
+    locator->BuildLocator();
+    const double tol2 = tolerance * tolerance;
+    vtkNew<vtkGenericCell> cell;
+    std::vector<double> wts(VTK_CELL_SIZE);
+    double pc[3];
+    int sub = 0;
+    for (vtkIdType i = 0; i < m; ++i)
+    {
+      double x[3] = { points[3 * i], points[3 * i + 1], points[3 * i + 2] };
+      const vtkIdType c = locator->FindCell(x, tol2, cell, sub, pc, wts.data());
+      if (c < 0)
+      {
+        continue;
+      }
+      double v = 0.0;
+      for (vtkIdType k = 0; k < cell->GetNumberOfPoints(); ++k)
+      {
+        v += wts[k] * values->GetComponent(cell->GetPointId(k), 0);
+      }
+      acc[i] = v;
+      acc[m + i] = 1.0;
+    }
+  }
+  vtkARMeshKernels::AllReduceSum(acc.data(), static_cast<int>(acc.size()));
+  std::vector<double> out(m, std::numeric_limits<double>::quiet_NaN());
+  for (vtkIdType i = 0; i < m; ++i)
+  {
+    if (acc[m + i] > 0.0)
+    {
+      out[i] = acc[i] / acc[m + i];
+    }
+  }
+  return out;
+}
+
+/// Samples per side of a centring line, and its half length in LocalSize.
+constexpr int CentringSamples = 24;
+constexpr double CentringReach = 3.0;
+
+/**
+ * The signed offset, along the line, of the half-jump point of the profile
+ * `v` sampled at s = (k - K) / K * reach, k = 0..2K: the contiguous valid
+ * part around the centre (at least a third of the reach on either side), the
+ * smallest and largest values there, the crossing of their mean nearest the
+ * centre. False where the line shows no jump of at least 5 %.
+ */
+bool HalfJumpOffset(const double* v, double reach, double& offset)
+{
+  const int K = CentringSamples, n = 2 * K + 1;
+  if (!std::isfinite(v[K]))
+  {
+    return false;
+  }
+  int lo = K, hi = K;
+  while (lo > 0 && std::isfinite(v[lo - 1]))
+  {
+    --lo;
+  }
+  while (hi < n - 1 && std::isfinite(v[hi + 1]))
+  {
+    ++hi;
+  }
+  if (K - lo < K / 3 || hi - K < K / 3)
+  {
+    return false;
+  }
+  const double vmin = *std::min_element(v + lo, v + hi + 1);
+  const double vmax = *std::max_element(v + lo, v + hi + 1);
+  if (!(vmax - vmin >= 0.05 * std::max(std::abs(vmin), std::abs(vmax))) || !(vmax > vmin))
+  {
+    return false;
+  }
+  const double mid = 0.5 * (vmin + vmax);
+  bool found = false;
+  for (int k = lo; k < hi; ++k)
+  {
+    const double a = v[k] - mid, b = v[k + 1] - mid;
+    if (a * b > 0.0 || a == b)
+    {
+      continue;
+    }
+    const double s = (k - K + a / (a - b)) * reach / K;
+    if (!found || std::abs(s) < std::abs(offset))
+    {
+      offset = s;
+      found = true;
+    }
+  }
+  return found;
+}
 
 /**
  * Signed distance values at the points of a triangle mesh, for cutting it at
@@ -231,6 +429,13 @@ vtkSmartPointer<vtkPolyData> KeepBelowZero(vtkPolyData* mesh, vtkDoubleArray* va
 vtkQuadricFit::vtkQuadricFit()
 {
   this->SetNumberOfInputPorts(2);
+  this->SetCentringArray(vtkShockSensor::AutomaticArrayName);
+}
+
+//------------------------------------------------------------------------------
+vtkQuadricFit::~vtkQuadricFit()
+{
+  this->SetCentringArray(nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -344,8 +549,40 @@ int vtkQuadricFit::RequestData(
   {
     boundary = vtkARMeshKernels::GatherDomainBoundary(domain);
   }
+  // ShockCentring under MPI: rank 0 sends its lines through the points (or
+  // none), and every rank probes its piece of the domain along them.
+  const bool joinCentring = ctrl && hasDomain && this->ShockCentring;
+  bool exchanged = false;
+  double tolerance = 0.0; // the probe's, set by rank 0
+  auto exchange = [&](std::vector<double>& lines, std::string& arrayName, bool& cellData) {
+    exchanged = true;
+    if (joinCentring)
+    {
+      double header[4] = { static_cast<double>(lines.size()), static_cast<double>(arrayName.size()),
+        cellData ? 1.0 : 0.0, tolerance };
+      ctrl->Broadcast(header, 4, 0);
+      tolerance = header[3];
+      lines.resize(static_cast<std::size_t>(header[0]));
+      arrayName.resize(static_cast<std::size_t>(header[1]));
+      cellData = header[2] > 0.0;
+      if (!lines.empty())
+      {
+        ctrl->Broadcast(&arrayName[0], static_cast<vtkIdType>(arrayName.size()), 0);
+        ctrl->Broadcast(lines.data(), static_cast<vtkIdType>(lines.size()), 0);
+      }
+    }
+    return lines.empty() ? std::vector<double>()
+                         : ProbeOnAllRanks(domain, arrayName.c_str(), cellData, lines, tolerance);
+  };
   if (!root)
   {
+    if (joinCentring)
+    {
+      std::vector<double> lines;
+      std::string arrayName;
+      bool cellData = false;
+      exchange(lines, arrayName, cellData);
+    }
     return 1; // rank 0 fits and meshes the surface
   }
   this->UpdateProgress(0.1);
@@ -355,6 +592,13 @@ int vtkQuadricFit::RequestData(
   const bool haveIds = status[1] > 0.0, haveWeight = status[2] > 0.0, haveSize = status[3] > 0.0;
   auto fail = [&](const std::string& message) {
     vtkErrorMacro(<< message << " The output is empty.");
+    if (joinCentring && !exchanged)
+    {
+      std::vector<double> none;
+      std::string noName;
+      bool cellData = false;
+      exchange(none, noName, cellData); // the other ranks wait for it
+    }
     return 1;
   };
   if (status[0] == 0.0)
@@ -452,13 +696,195 @@ int vtkQuadricFit::RequestData(
   ar::SurfaceFitResult fit;
   std::string error;
   double residuals[3] = { 0.0, 0.0, 0.0 }; // plane, cone, quadric (automatic template)
-  const bool fitted = this->Template == AUTOMATIC
-    ? ar::FitSurfaceAutomatic(xyz.data(), w.data(), n, options, this->RobustFit, typical, fit, error, residuals)
-    : this->RobustFit ? ar::FitSurfaceRobust(xyz.data(), w.data(), n, options, fit, error)
-                      : ar::FitSurface(xyz.data(), w.data(), n, options, fit, error);
-  if (!fitted)
+  auto fitPoints = [&](const double* P, const double* W, std::size_t count, ar::SurfaceFitResult& f,
+                     std::string& e) {
+    return this->Template == AUTOMATIC
+      ? ar::FitSurfaceAutomatic(P, W, count, options, this->RobustFit, typical, f, e, residuals)
+      : this->RobustFit ? ar::FitSurfaceRobust(P, W, count, options, f, e)
+                        : ar::FitSurface(P, W, count, options, f, e);
+  };
+  if (!fitPoints(xyz.data(), w.data(), n, fit, error))
   {
     return fail(error);
+  }
+
+  // ---- Shock centring: the points moved along the fit's normal to the
+  // half-jump of the centring array, and fitted again.
+  double centred = 0.0, centringShift = 0.0;
+  std::string centringUsed;
+  if (this->ShockCentring && hasDomain)
+  {
+    bool cellData = false;
+    vtkDataArray* array = CentringArrayOf(domain, this->CentringArray, cellData, centringUsed);
+    std::vector<double> lines, normals(3 * n, 0.0), scale(n, 0.0);
+    const int samples = 2 * CentringSamples + 1;
+    if (!array)
+    {
+      vtkWarningMacro(<< "ShockCentring: the Domain has no one-component array "
+                      << (this->CentringArray && std::string(this->CentringArray) != vtkShockSensor::AutomaticArrayName
+                             ? std::string("'") + this->CentringArray + "'"
+                             : std::string("of pressure or density (p, Pressure, rho, Density, ...)"))
+                      << "; the points are fitted where they are.");
+      centringUsed.clear();
+    }
+    else if (!haveSize && !haveWeight)
+    {
+      vtkWarningMacro("ShockCentring: the points have neither LocalSize nor Weight, so no length for "
+                      "the centring lines; the points are fitted where they are.");
+      centringUsed.clear();
+    }
+    else
+    {
+      lines.resize(3 * n * samples);
+      tolerance = 1e-6 * typical; // typical > 0: the points have LocalSize or Weight
+      vtkSmartPointer<vtkStaticCellLocator> onBoundary;
+      if (boundary && boundary->GetNumberOfCells() > 0)
+      {
+        onBoundary = vtkSmartPointer<vtkStaticCellLocator>::New();
+        onBoundary->SetDataSet(boundary);
+        onBoundary->BuildLocator();
+      }
+      vtkNew<vtkIdList> near;
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        const double l = haveSize ? packed[Stride * j + 4] : 1.0 / w[j];
+        scale[j] = l;
+        // The unit normal: the gradient of the signed distance.
+        double g[3], len = 0.0;
+        for (int a = 0; a < 3; ++a)
+        {
+          double xp[3] = { xyz[3 * j], xyz[3 * j + 1], xyz[3 * j + 2] }, xm[3] = { xp[0], xp[1], xp[2] };
+          xp[a] += 1e-3 * l;
+          xm[a] -= 1e-3 * l;
+          g[a] = (ar::SurfaceDistance(fit, xp) - ar::SurfaceDistance(fit, xm)) / (2e-3 * l);
+          len += g[a] * g[a];
+        }
+        len = std::sqrt(len);
+        for (int a = 0; a < 3 && len > 0.0 && std::isfinite(len); ++a)
+        {
+          g[a] /= len;
+        }
+        // A point on the domain's boundary (a symmetry plane, the front or
+        // back plane of a one-cell-deep mesh) centres along the boundary: a
+        // normal tilted out of it by a hair would leave half the line outside.
+        // (Any line across the shock finds the half-jump on the shock.)
+        if (onBoundary)
+        {
+          // Every boundary face within 1e-3 LocalSize (a point on an edge of
+          // two planes, e.g. the outlet and the front plane, lies on both).
+          const double r = 1e-3 * l;
+          double box[6] = { xyz[3 * j] - r, xyz[3 * j] + r, xyz[3 * j + 1] - r, xyz[3 * j + 1] + r,
+            xyz[3 * j + 2] - r, xyz[3 * j + 2] + r };
+          near->Reset();
+          onBoundary->FindCellsWithinBounds(box, near);
+          near->Sort(); // the bins' order varies with the threads
+          // The directions normal to the boundary there, independent of the
+          // faces' order: the eigenvectors of sum n n^T with a weight of at
+          // least a fifth of the faces' (one for a plane, two along an edge).
+          double m[3][3] = { { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
+          int faces = 0;
+          for (vtkIdType c = 0; c < near->GetNumberOfIds(); ++c)
+          {
+            vtkCell* face = boundary->GetCell(near->GetId(c));
+            double nb[3], p0[3];
+            vtkPolygon::ComputeNormal(face->GetPoints(), nb);
+            face->GetPoints()->GetPoint(0, p0);
+            const double off = nb[0] * (xyz[3 * j] - p0[0]) + nb[1] * (xyz[3 * j + 1] - p0[1]) +
+              nb[2] * (xyz[3 * j + 2] - p0[2]);
+            if (std::abs(off) > r)
+            {
+              continue;
+            }
+            ++faces;
+            for (int u = 0; u < 3; ++u)
+            {
+              for (int v = 0; v < 3; ++v)
+              {
+                m[u][v] += nb[u] * nb[v];
+              }
+            }
+          }
+          if (faces > 0)
+          {
+            double* rows[3] = { m[0], m[1], m[2] };
+            double eigen[3], vec[3][3];
+            double* vecs[3] = { vec[0], vec[1], vec[2] };
+            vtkMath::Jacobi(rows, eigen, vecs); // eigenvectors in the columns
+            for (int k = 0; k < 3; ++k)
+            {
+              if (eigen[k] >= 0.2 * faces)
+              {
+                const double nb[3] = { vec[0][k], vec[1][k], vec[2][k] };
+                const double d = vtkMath::Dot(g, nb);
+                for (int a = 0; a < 3; ++a)
+                {
+                  g[a] -= d * nb[a];
+                }
+              }
+            }
+            const double t = vtkMath::Norm(g);
+            for (int a = 0; a < 3; ++a)
+            {
+              g[a] = t > 0.2 ? g[a] / t : 0.0; // a shock along the wall: not centred
+            }
+          }
+        }
+        std::copy(g, g + 3, &normals[3 * j]);
+        for (int k = 0; k < samples; ++k)
+        {
+          const double sk = (k - CentringSamples) * CentringReach / CentringSamples * l;
+          for (int a = 0; a < 3; ++a)
+          {
+            lines[3 * (j * samples + k) + a] = xyz[3 * j + a] + sk * normals[3 * j + a];
+          }
+        }
+      }
+    }
+    const std::vector<double> values = exchange(lines, centringUsed, cellData);
+    if (!values.empty())
+    {
+      std::vector<double> moved, movedWeights, shifts;
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        double offset = 0.0;
+        const bool unit = std::abs(normals[3 * j] * normals[3 * j] + normals[3 * j + 1] * normals[3 * j + 1] +
+                                   normals[3 * j + 2] * normals[3 * j + 2] - 1.0) < 1e-6;
+        const bool okj = unit && HalfJumpOffset(&values[j * samples], CentringReach, offset);
+        if (!okj)
+        {
+          continue;
+        }
+        for (int a = 0; a < 3; ++a)
+        {
+          moved.push_back(xyz[3 * j + a] + offset * scale[j] * normals[3 * j + a]);
+        }
+        movedWeights.push_back(w[j]);
+        shifts.push_back(std::abs(offset));
+      }
+      const std::size_t count = movedWeights.size();
+      ar::SurfaceFitResult refit;
+      std::string refitError;
+      if (count >= std::max<std::size_t>(ar::SurfaceTemplateMinimumPoints(fit.Template), (n + 1) / 2) &&
+        fitPoints(moved.data(), movedWeights.data(), count, refit, refitError))
+      {
+        fit = refit;
+        centred = static_cast<double>(count);
+        centringShift = Median(shifts);
+      }
+      else
+      {
+        vtkWarningMacro(<< "ShockCentring: only " << count << " of " << n << " points found a jump of '"
+                        << centringUsed << "' within " << CentringReach
+                        << " LocalSize along the fitted surface's normal"
+                        << (refitError.empty() ? "" : " (" + refitError + ")")
+                        << "; the first fit, of the points where they are, is kept.");
+        if (this->Template == AUTOMATIC)
+        {
+          std::string again;
+          fitPoints(xyz.data(), w.data(), n, fit, again); // the first fit's residuals back
+        }
+      }
+    }
   }
   this->UpdateProgress(0.4);
   if (this->CheckAbort())
@@ -669,6 +1095,12 @@ int vtkQuadricFit::RequestData(
   fd->AddArray(vtkARMeshKernels::FieldArray("WeightedRMSResidual", &fit.WeightedRMSResidual, 1));
   const double count = static_cast<double>(n);
   fd->AddArray(vtkARMeshKernels::FieldArray("NumberOfFitPoints", &count, 1));
+  fd->AddArray(vtkARMeshKernels::FieldArray("CentredPoints", &centred, 1));
+  fd->AddArray(vtkARMeshKernels::FieldArray("CentringShift", &centringShift, 1));
+  vtkNew<vtkStringArray> centringName;
+  centringName->SetName("CentringArrayUsed");
+  centringName->InsertNextValue(centred > 0.0 ? centringUsed : "none");
+  fd->AddArray(centringName);
   fd->AddArray(vtkARMeshKernels::FieldArray("SurfaceEdgeLength", &h, 1));
   fd->AddArray(vtkARMeshKernels::FieldArray("FrameOrigin", fit.FrameOrigin, 3));
   double axes[9];
@@ -714,5 +1146,7 @@ void vtkQuadricFit::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GeometricRefinement: " << this->GeometricRefinement << "\n";
   os << indent << "RobustFit: " << this->RobustFit << "\n";
   os << indent << "SurfaceEdgeLength: " << this->SurfaceEdgeLength << "\n";
+  os << indent << "ShockCentring: " << this->ShockCentring << "\n";
+  os << indent << "CentringArray: " << (this->CentringArray ? this->CentringArray : "(none)") << "\n";
   os << indent << "Margin: " << this->Margin << "\n";
 }

@@ -40,6 +40,7 @@
 #include "vtkPolygon.h"
 #include "vtkStaticCellLocator.h"
 #include "vtkCellLocator.h"
+#include "vtkExtractCells.h"
 #include "vtkShockSensor.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -138,10 +139,14 @@ vtkDataArray* CentringArrayOf(vtkDataSet* domain, const char* name, bool& cellDa
  * where none of this rank's cells holds a point. Under MPI every rank probes
  * its own piece and the values are averaged over the ranks that found the
  * point (a point in a ghost cell is found twice, with the same value up to
- * round-off): every rank must call this with the same points.
+ * round-off): every rank must call this with the same points. The points
+ * come in lines of `perLine`, each `reach` local sizes to either side of its
+ * middle point: only the cells with a node within reach + 2 local sizes of a
+ * line's middle are searched (on 5e6 cells the locator over all of them
+ * would cost more than the fit).
  */
 std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, bool cellData,
-  const std::vector<double>& points, double tolerance)
+  const std::vector<double>& points, int perLine, double reach, double tolerance)
 {
   const vtkIdType m = static_cast<vtkIdType>(points.size() / 3);
   std::vector<double> acc(2 * static_cast<std::size_t>(m), 0.0); // value sums, then counts
@@ -168,15 +173,60 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
       values = a;
     }
   }
-  if (values && m > 0)
+  if (values && m > 0 && perLine > 0)
   {
     // vtkCellLocator, serial, on purpose: vtkStaticCellLocator builds its bins
     // with threads, and the order of the cells in a bin, so the cell it finds
     // for a point on a face (or within the tolerance of the boundary), varied
     // from run to run: the bundled cone's centring found 2411 to 2415 samples
     // (with one thread, the same every time), and vtkProbeFilter did too.
+    vtkNew<vtkStaticPointLocator> nodes;
+    nodes->SetDataSet(source);
+    nodes->BuildLocator();
+    const vtkIdType npts = source->GetNumberOfPoints();
+    std::vector<char> near(static_cast<std::size_t>(npts), 0);
+    vtkNew<vtkIdList> found;
+    for (vtkIdType line = 0; line * perLine < m; ++line)
+    {
+      const double* mid = &points[3 * (line * perLine + perLine / 2)];
+      const double* end = &points[3 * (line * perLine + perLine - 1)];
+      const double half = std::sqrt(vtkMath::Distance2BetweenPoints(mid, end));
+      double x[3] = { mid[0], mid[1], mid[2] };
+      nodes->FindPointsWithinRadius(half * (1.0 + 2.0 / reach), x, found);
+      for (vtkIdType k = 0; k < found->GetNumberOfIds(); ++k)
+      {
+        near[found->GetId(k)] = 1;
+      }
+    }
+    const vtkIdType ncells = source->GetNumberOfCells();
+    std::vector<char> keep(static_cast<std::size_t>(ncells), 0);
+    vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
+      vtkNew<vtkIdList> ids;
+      for (vtkIdType c = b; c < e; ++c)
+      {
+        source->GetCellPoints(c, ids);
+        for (vtkIdType k = 0; k < ids->GetNumberOfIds() && !keep[c]; ++k)
+        {
+          keep[c] = near[ids->GetId(k)];
+        }
+      }
+    });
+    vtkNew<vtkIdList> cellIds;
+    for (vtkIdType c = 0; c < ncells; ++c)
+    {
+      if (keep[c])
+      {
+        cellIds->InsertNextId(c);
+      }
+    }
+    vtkNew<vtkExtractCells> extract;
+    extract->SetInputData(source);
+    extract->SetCellList(cellIds);
+    extract->Update();
+    vtkUnstructuredGrid* band = extract->GetOutput();
+    values = band->GetPointData()->GetArray(arrayName);
     vtkNew<vtkCellLocator> locator;
-    locator->SetDataSet(source);
+    locator->SetDataSet(band);
     locator->BuildLocator();
     const double tol2 = tolerance * tolerance;
     vtkNew<vtkGenericCell> cell;
@@ -186,7 +236,7 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     for (vtkIdType i = 0; i < m; ++i)
     {
       double x[3] = { points[3 * i], points[3 * i + 1], points[3 * i + 2] };
-      const vtkIdType c = locator->FindCell(x, tol2, cell, sub, pc, wts.data());
+      const vtkIdType c = values ? locator->FindCell(x, tol2, cell, sub, pc, wts.data()) : -1;
       if (c < 0)
       {
         continue;
@@ -518,7 +568,9 @@ int vtkQuadricFit::RequestData(
           const double id = ids->GetComponent(p, 0);
           flags[4] = std::max(flags[4], id);
           flags[5] = std::max(flags[5], -id);
-          if (this->ClusterId >= 0 && id != this->ClusterId)
+          if (this->ClusterId >= 0 && id != this->ClusterId &&
+            std::find(this->ExtraClusterIds.begin(), this->ExtraClusterIds.end(), static_cast<int>(id)) ==
+              this->ExtraClusterIds.end())
           {
             continue;
           }
@@ -572,7 +624,7 @@ int vtkQuadricFit::RequestData(
       }
     }
     return lines.empty() ? std::vector<double>()
-                         : ProbeOnAllRanks(domain, arrayName.c_str(), cellData, lines, tolerance);
+                         : ProbeOnAllRanks(domain, arrayName.c_str(), cellData, lines, 2 * CentringSamples + 1, CentringReach, tolerance);
   };
   if (!root)
   {

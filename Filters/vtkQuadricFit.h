@@ -87,6 +87,8 @@
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <vector> // for ExtraClusterIds
+
 class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkQuadricFit : public vtkPolyDataAlgorithm
 {
 public:
@@ -122,6 +124,17 @@ public:
   /// points. Default 0. At least -1: refused otherwise, not clamped.
   vtkSetMacro(ClusterId, int);
   vtkGetMacro(ClusterId, int);
+  ///@}
+
+  ///@{
+  /// More clusters fitted together with ClusterId as one surface (C++ only;
+  /// AdaptToShocks joins the pieces of one shock this way). Empty by default.
+  void SetExtraClusterIds(const std::vector<int>& ids)
+  {
+    this->ExtraClusterIds = ids;
+    this->Modified();
+  }
+  const std::vector<int>& GetExtraClusterIds() const { return this->ExtraClusterIds; }
   ///@}
 
   ///@{
@@ -225,6 +238,7 @@ private:
 
   int Template = AUTOMATIC;
   int ClusterId = 0;
+  std::vector<int> ExtraClusterIds;
   double AxisOrigin[3] = { 0.0, 0.0, 0.0 };
   double AxisDirection[3] = { 0.0, 0.0, 1.0 };
   bool UseAutomaticAxis = true;

@@ -8,8 +8,11 @@ property set.
   new tetrahedra at least 10 degrees; the stage times in the field data.
 - The OpenFOAM wedge (one cell deep): a plane within 0.5 degree of
   theta-beta-Mach, still one cell deep (2-D mode); the small cluster split
-  off at the shock's foot, whose surface crosses the main one, is left out
-  with a warning.
+  off at the shock's foot is a piece of the same shock: one plane fits both
+  clusters' centred points as well as each alone, so they are joined into
+  one surface (SurfaceClusters "0+1"). Given a template of its own
+  (ClusterTemplates), the piece stays alone, and as its surface crosses the
+  main one it is left out with a warning.
 - The cone as the OpenFOAM reader gives it (a multiblock of internalMesh
   and patches): a multiblock out, the patches' face counts unchanged.
 - ClusterTemplates [0, Plane] overrides the automatic choice.
@@ -83,8 +86,18 @@ beta = np.degrees(np.arctan2(abs(n[0]), abs(n[1])))
 check(out_w.FieldData["SurfaceTemplates"].GetValue(0) == "Plane" and f(out_w, "NumberOfSurfaces") == 1
       and abs(beta - f(W, "ShockAngleThetaBetaMach")) < 0.5,
       "wedge: one plane at %.2f deg (theta-beta-Mach %.2f)" % (beta, f(W, "ShockAngleThetaBetaMach")))
-check(f(out_w, "TwoDimensional") == 1 and "crosses the surface of cluster 0 and is left out" in text,
-      "wedge: 2-D mode; the shock foot's crossing piece is left out with a warning")
+members = out_w.FieldData["SurfaceClusters"]
+check(f(out_w, "TwoDimensional") == 1 and members.GetNumberOfValues() == 1 and members.GetValue(0) == "0+1"
+      and "left out" not in text,
+      "wedge: 2-D mode; the shock foot's piece (cluster 1) joined to the main one (SurfaceClusters %s)"
+      % [members.GetValue(i) for i in range(members.GetNumberOfValues())])
+before = len(messages.GetOutput())
+alone = artest.fetch(AdaptToShocks(Input=wedge, ClusterTemplates=[1, 0]))
+text = messages.GetOutput()[before:]
+check(f(alone, "NumberOfSurfaces") == 1 and alone.FieldData["SurfaceClusters"].GetValue(0) == "0"
+      and "crosses the surface of cluster 0 and is left out" in text,
+      "wedge, cluster 1 given its own template: not joined; its surface crosses the main one and is left out "
+      "with a warning")
 
 # ---- The OpenFOAM reader's multiblock.
 patches = artest.CONE_PATCHES

@@ -13,7 +13,13 @@
  *    MinimumClusterFraction of the largest cluster's (at most
  *    MaximumNumberOfSurfaces of them, largest first), the template chosen
  *    automatically (plane, cone or quadric) unless SetClusterTemplate names
- *    one, trimmed to the domain;
+ *    one, trimmed to the domain, the medial points centred on the shock
+ *    (vtkQuadricFit's ShockCentring, the volume as its Domain); then the
+ *    pieces of one shock joined: two clusters get one surface when one fit
+ *    of both clusters' points has an RMS residual within 1.25 x the worse
+ *    piece's + 0.1 edge length (clusters with a template of their own stay
+ *    alone); a surface that still crosses a larger one is left out with a
+ *    warning;
  * 4. vtkEmbeddedRemesh with every fitted surface (LocalCavity, refined at
  *    the surfaces: SurfaceSizeFactor, or prism layers).
  * The separate filters stay for inspecting and hand-editing each step.
@@ -23,7 +29,8 @@
  * 3-D cells, carries the solution; the patch leaves pass through, as
  * EmbeddedRemesh does).
  * Output port 0: the adapted mesh (vtkEmbeddedRemesh's output, its field
- * data, plus NumberOfSurfaces, the string array SurfaceTemplates and the
+ * data, plus NumberOfSurfaces, the string arrays SurfaceTemplates and
+ * SurfaceClusters (per surface its clusters, "0" or "0+2+1") and the
  * seconds of each stage: SecondsSensor, SecondsClusters, SecondsFit,
  * SecondsRemesh). Output port 1: all fitted surfaces in one vtkPolyData with
  * the cell array SurfaceId (0, 1, ... in cluster order). Field data

@@ -1325,6 +1325,28 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     output->ShallowCopy(input);
     return 1;
   };
+  // ---- Coordinates and conformity of this rank's piece, as in serial (a
+  // crack makes TetGen crash), agreed on by every rank: a crack on one rank
+  // refuses the whole job.
+  problem = vtkARInputChecks::NonFinitePoints(input, "the volume mesh");
+  for (std::size_t k = 0; k < surfaces.size() && problem.empty(); ++k)
+  {
+    const std::string what = "feature surface " + std::to_string(k) + " (the Surfaces input)";
+    problem = vtkARInputChecks::NonFinitePoints(surfaces[k], what.c_str());
+  }
+  if (problem.empty())
+  {
+    problem = vtkARInputChecks::DuplicatedPoints(input);
+  }
+  if (!problem.empty())
+  {
+    problem.pop_back();
+    problem = "EmbeddedRemesh (rank " + std::to_string(rank) + "): " + problem;
+  }
+  if (failed())
+  {
+    return passThrough();
+  }
   // ---- This rank's tetrahedra, owned and ghost (the ghosts complete l_v).
   const vtkIdType nPoints = input->GetNumberOfPoints();
   vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();

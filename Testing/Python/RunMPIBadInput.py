@@ -9,7 +9,9 @@ Splits Data/oblique_shock_unstructured.vtu into a 2-piece .pvtu, fits the
 plane serially (MPIEmbeddedRemeshPipeline.py writes it), then runs
 MPIBadInputPipeline.py on 2 ranks: EmbeddedRemesh with SurfaceEdgeLength
 1e-9 (the job-size estimate from the gathered surface and the reduced
-volume: the same numbers on both ranks), 1e6 and RemovalFactor 0, and
+volume: the same numbers on both ranks), 1e6 and RemovalFactor 0, a crack of
+duplicated points in rank 1's piece only (both ranks refuse, rank 1 by name),
+and
 FeatureCluster on a range that selects every node (the node count reduced
 over the ranks: all 4108 of the mesh's nodes).
 """
@@ -50,4 +52,15 @@ for case, said in [("fine", "SurfaceEdgeLength is 1e-09: the job would not fit i
     check(sorted(ranks) == [0, 1] and all(r[0] == r[1] and r[0] > 0 and r[3] == 0 and r[4] == 0 for r in ranks.values()),
           "%s: each rank's piece passes through, nothing added, output 1 empty (%s)"
           % (case, [(r[0], r[1], r[3], r[4]) for r in ranks.values()]))
+# A crack in rank 1's piece only: rank 1 names it, rank 0 learns that another
+# rank failed, both pass their pieces through (nobody hangs in TetGen's
+# gather, nobody crashes in TetGen).
+ranks = results.get("crack", {})
+check(sorted(ranks) == [0, 1] and "The volume mesh is not conforming" in ranks[1][2]
+      and "of its points are duplicated" in ranks[1][2] and "failed on another rank" in ranks[0][2],
+      "crack on rank 1: rank 1 refuses it by name, rank 0 because another rank failed (%s)"
+      % {k: v[2][:90] for k, v in ranks.items()})
+check(sorted(ranks) == [0, 1] and all(r[0] == r[1] and r[0] > 0 and r[3] == 0 for r in ranks.values()),
+      "crack on rank 1: each rank's piece passes through, nothing added (%s)"
+      % [(r[0], r[1], r[3], r[4]) for r in ranks.values()])
 artest.finish()

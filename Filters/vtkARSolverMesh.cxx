@@ -21,19 +21,24 @@
 #include "vtkPartitionedDataSet.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cctype>
+#include <cstdlib>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
-#include <unordered_map>
 
 #include <unistd.h> // getpid
 
@@ -92,26 +97,15 @@ FaceKey CellFaceKey(unsigned char type, const vtkIdType* cell, int f)
   return MakeKey(fids, n);
 }
 
-struct FaceKeyHash
+/// Lowers `target` to `value` if it is smaller (threads may race: the
+/// smallest wins, so the result does not depend on the schedule).
+void AtomicMin(std::atomic<vtkIdType>& target, vtkIdType value)
 {
-  size_t operator()(const FaceKey& k) const
+  vtkIdType now = target.load();
+  while (value < now && !target.compare_exchange_weak(now, value))
   {
-    size_t h = 1469598103934665603ull;
-    for (vtkIdType v : k)
-    {
-      h ^= static_cast<size_t>(v) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-    }
-    return h;
   }
-};
-
-struct FaceRecord
-{
-  int Count = 0;
-  vtkIdType Cell = -1; // the first cell using the face
-  int LocalFace = -1;
-  int Patch = -1;
-};
+}
 
 bool ContainsNoCase(const std::string& text, const char* word)
 {
@@ -219,6 +213,19 @@ std::string vtkARSolverMesh::CleanName(const std::string& name, const std::strin
       : c;
   }
   return clean.empty() ? fallback : clean;
+}
+
+void vtkARSolverMesh::Threaded(const std::function<void()>& work)
+{
+  const char* env = std::getenv("VTK_SMP_BACKEND_IN_USE");
+  if ((env == nullptr || *env == '\0') && std::strcmp(vtkSMPTools::GetBackend(), "Sequential") == 0)
+  {
+    vtkSMPTools::LocalScope(vtkSMPTools::Config{ std::string("STDThread") }, work);
+  }
+  else
+  {
+    work();
+  }
 }
 
 void vtkARSolverMesh::AppendDouble(std::string& s, double v)
@@ -359,6 +366,10 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
   vtkUnsignedCharArray* ghosts = volume->GetCellGhostArray();
   vtkNew<vtkIdList> ids;
   std::vector<vtkIdType> surfaceCells; // 2-D cells of the volume dataset (form (b))
+  this->CellConnectivity.reserve(static_cast<size_t>(nInputCells) * 4);
+  this->CellOffsets.reserve(static_cast<size_t>(nInputCells) + 1);
+  this->CellTypes.reserve(static_cast<size_t>(nInputCells));
+  this->InputCellIds.reserve(static_cast<size_t>(nInputCells));
   for (vtkIdType c = 0; c < nInputCells; ++c)
   {
     if (ghosts &&
@@ -389,11 +400,12 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
         "and pyramids are written (polyhedra and quadratic cells are not)";
       return false;
     }
-    volume->GetCellPoints(c, ids);
-    const vtkIdType npts = ids->GetNumberOfIds();
+    vtkIdType npts = 0;
+    const vtkIdType* pts = nullptr;
+    volume->GetCellPoints(c, npts, pts, ids);
     for (vtkIdType i = 0; i < npts; ++i)
     {
-      const vtkIdType p = ids->GetId(type == VTK_VOXEL ? voxelToHex[i] : i);
+      const vtkIdType p = pts[type == VTK_VOXEL ? voxelToHex[i] : i];
       pointMap[p] = 0; // used; numbered below, in input order
       this->CellConnectivity.push_back(p);
     }
@@ -433,45 +445,151 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     progress->UpdateProgress(0.15);
   }
 
-  // ---- Orientation (volume from the outward faces) and the face table.
+  // ---- Orientation (volume from the outward faces) and the face table:
+  // every cell face bucketed by its smallest point, the faces of a bucket
+  // matched by their sorted points (one search, threaded per bucket; the
+  // buckets also find the patch faces below).
   const vtkIdType nCells = this->GetNumberOfCells();
-  std::unordered_map<FaceKey, FaceRecord, FaceKeyHash> faces;
-  faces.reserve(static_cast<size_t>(nCells) * 4);
+  const vtkIdType nPoints = this->GetNumberOfPoints();
+  this->FaceSlots.resize(static_cast<size_t>(nCells) + 1);
   for (vtkIdType c = 0; c < nCells; ++c)
   {
-    const unsigned char type = this->CellTypes[c];
-    const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
-    const ar::CellShape shape = ShapeOf(type);
+    this->FaceSlots[c + 1] = this->FaceSlots[c] + NumberOfFaces(this->CellTypes[c]);
+  }
+  const vtkIdType nSlots = this->FaceSlots[nCells];
+  auto cellOf = [this](vtkIdType c) { return this->CellConnectivity.data() + this->CellOffsets[c]; };
+  // Every cell face as (its sorted points, 8 * cell + local face), moved
+  // into coarse buckets by its smallest point (a radix pass: the faces read
+  // in cell order, written to one stream per bucket, which the cache holds;
+  // filling a bucket per point directly cost seconds of cache misses at
+  // 5e6 cells), each bucket then sorted in parallel: equal faces side by
+  // side, in cell order.
+  struct CellFace
+  {
+    FaceKey Key;
+    vtkIdType Packed;
+    bool operator<(const CellFace& o) const // (Key, Packed), element by element
+    {
+      for (int i = 0; i < 4; ++i)
+      {
+        if (this->Key[i] != o.Key[i])
+        {
+          return this->Key[i] < o.Key[i];
+        }
+      }
+      return this->Packed < o.Packed;
+    }
+    bool SameFace(const CellFace& o) const
+    {
+      return this->Key[0] == o.Key[0] && this->Key[1] == o.Key[1] && this->Key[2] == o.Key[2] &&
+        this->Key[3] == o.Key[3];
+    }
+  };
+  int shift = 0;
+  while ((nPoints >> shift) >= 4096)
+  {
+    ++shift;
+  }
+  const vtkIdType nBuckets = (nPoints >> shift) + 1;
+  std::vector<vtkIdType> bucketStart(static_cast<size_t>(nBuckets) + 1, 0);
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    for (int f = 0; f < NumberOfFaces(this->CellTypes[c]); ++f)
+    {
+      const int* face = Face(this->CellTypes[c], f);
+      const vtkIdType* cell = cellOf(c);
+      vtkIdType smallest = cell[face[0]];
+      for (int i = 1; i < FaceSize(face); ++i)
+      {
+        smallest = std::min(smallest, cell[face[i]]);
+      }
+      ++bucketStart[(smallest >> shift) + 1];
+    }
+  }
+  for (vtkIdType b = 0; b < nBuckets; ++b)
+  {
+    bucketStart[b + 1] += bucketStart[b];
+  }
+  std::vector<CellFace> cellFaces(static_cast<size_t>(nSlots));
+  {
+    std::vector<vtkIdType> next(bucketStart.begin(), bucketStart.end() - 1);
+    for (vtkIdType c = 0; c < nCells; ++c)
+    {
+      for (int f = 0; f < NumberOfFaces(this->CellTypes[c]); ++f)
+      {
+        const FaceKey key = CellFaceKey(this->CellTypes[c], cellOf(c), f);
+        cellFaces[next[key[0] >> shift]++] = { key, 8 * c + f };
+      }
+    }
+  }
+  this->FacePartner.assign(static_cast<size_t>(nSlots), -1);
+  std::atomic<vtkIdType> overShared(nCells); // the first cell making a face's third use
+  std::atomic<vtkIdType> inverted(nCells);   // the first inverted or degenerate cell
+  Threaded([&]() {
+    vtkSMPTools::For(0, nBuckets, 1, [&](vtkIdType first, vtkIdType last) {
+      for (vtkIdType bucket = first; bucket < last; ++bucket)
+      {
+        CellFace* b = cellFaces.data() + bucketStart[bucket];
+        CellFace* e = cellFaces.data() + bucketStart[bucket + 1];
+        std::sort(b, e);
+        for (CellFace *i = b, *j = b; i < e; i = j)
+        {
+          for (j = i + 1; j < e && j->SameFace(*i); ++j)
+          {
+          }
+          if (j - i == 2)
+          {
+            const vtkIdType x = i[0].Packed, y = i[1].Packed;
+            this->FacePartner[this->FaceSlots[x >> 3] + (x & 7)] = y;
+            this->FacePartner[this->FaceSlots[y >> 3] + (y & 7)] = x;
+          }
+          else if (j - i > 2)
+          {
+            AtomicMin(overShared, i[2].Packed >> 3);
+          }
+        }
+      }
+    });
+    vtkSMPTools::For(0, nCells, [&](vtkIdType first, vtkIdType last) {
+      for (vtkIdType c = first; c < last; ++c)
+      {
+        const ar::CellShape shape = ShapeOf(this->CellTypes[c]);
+        const vtkIdType* cell = cellOf(c);
+        double x[8 * 3];
+        for (int i = 0; i < ar::NumberOfNodes(shape); ++i)
+        {
+          std::copy(&this->Points[3 * cell[i]], &this->Points[3 * cell[i]] + 3, x + 3 * i);
+        }
+        if (!(ar::CellVolume(shape, x) > 0.0))
+        {
+          AtomicMin(inverted, c);
+          return; // the later cells of this range cannot be the first
+        }
+      }
+    });
+  });
+  if (overShared.load() < nCells && overShared.load() <= inverted.load())
+  {
+    error = "a face of written cell " + std::to_string(overShared.load()) +
+      " is shared by more than two cells (the mesh is not a valid conforming volume mesh)";
+    return false;
+  }
+  if (inverted.load() < nCells)
+  {
+    const vtkIdType c = inverted.load();
+    const ar::CellShape shape = ShapeOf(this->CellTypes[c]);
     double x[8 * 3];
     for (int i = 0; i < ar::NumberOfNodes(shape); ++i)
     {
-      std::copy(&this->Points[3 * cell[i]], &this->Points[3 * cell[i]] + 3, x + 3 * i);
+      std::copy(&this->Points[3 * cellOf(c)[i]], &this->Points[3 * cellOf(c)[i]] + 3, x + 3 * i);
     }
-    const double volume = ar::CellVolume(shape, x);
-    for (int f = 0; f < NumberOfFaces(type); ++f)
-    {
-      FaceRecord& record = faces[CellFaceKey(type, cell, f)];
-      if (record.Count == 0)
-      {
-        record.Cell = c;
-        record.LocalFace = f;
-      }
-      ++record.Count;
-      if (record.Count > 2)
-      {
-        error = "a face of written cell " + std::to_string(c) +
-          " is shared by more than two cells (the mesh is not a valid conforming volume mesh)";
-        return false;
-      }
-    }
-    if (!(volume > 0.0))
-    {
-      error = "3-D cell number " + std::to_string(c) + " (a " + TypeName(type) +
-        ") is inverted or degenerate: its volume from its faces in VTK's node order is " +
-        std::to_string(volume);
-      return false;
-    }
+    error = "3-D cell number " + std::to_string(c) + " (a " + TypeName(this->CellTypes[c]) +
+      ") is inverted or degenerate: its volume from its faces in VTK's node order is " +
+      std::to_string(ar::CellVolume(shape, x));
+    return false;
   }
+  // The patch of each boundary slot (-1: none yet).
+  std::vector<int> slotPatch(static_cast<size_t>(nSlots), -1);
   if (progress)
   {
     progress->UpdateProgress(0.3);
@@ -496,47 +614,53 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     patchByName[name] = index;
     return index;
   };
-  auto addFace = [&](int patch, const FaceRecord& record) {
-    const unsigned char type = this->CellTypes[record.Cell];
-    const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[record.Cell];
-    const int* face = Face(type, record.LocalFace);
+  auto addFace = [&](int patch, vtkIdType c, int f) {
+    const vtkIdType* cell = cellOf(c);
+    const int* face = Face(this->CellTypes[c], f);
     Patch& p = this->Patches[patch];
     for (int i = 0; i < FaceSize(face); ++i)
     {
       p.Connectivity.push_back(cell[face[i]]);
     }
     p.Offsets.push_back(static_cast<vtkIdType>(p.Connectivity.size()));
-    p.Cells.push_back(record.Cell);
+    p.Cells.push_back(c);
   };
   // Assigns one input face (model point ids) to a patch.
   auto assign = [&](int patch, const vtkIdType* fids, int n, const std::string& what) {
-    auto it = faces.find(MakeKey(fids, n));
-    if (it == faces.end())
+    // the face's bucket: its smallest point's
+    const FaceKey key = MakeKey(fids, n);
+    const vtkIdType bucket = key[0] >> shift;
+    const CellFace* b = cellFaces.data() + bucketStart[bucket];
+    const CellFace* e = cellFaces.data() + bucketStart[bucket + 1];
+    const CellFace* first = std::lower_bound(b, e,
+      CellFace{ key, std::numeric_limits<vtkIdType>::min() });
+    const vtkIdType found = first < e && first->Key == key ? first->Packed : -1; // the first cell's
+    if (found < 0)
     {
       error = what + " of patch '" + this->Patches[patch].Name +
         "' is not a face of any 3-D cell (its points are volume points, but no cell face has "
         "exactly them)";
       return false;
     }
-    FaceRecord& record = it->second;
-    if (record.Count != 1)
+    const vtkIdType slot = this->FaceSlots[found >> 3] + (found & 7);
+    if (this->FacePartner[slot] >= 0)
     {
       error = what + " of patch '" + this->Patches[patch].Name +
         "' is an interior face (shared by two cells), not a boundary face of the volume";
       return false;
     }
-    if (record.Patch >= 0)
+    if (slotPatch[slot] >= 0)
     {
-      if (record.Patch != patch)
+      if (slotPatch[slot] != patch)
       {
         error = what + " of patch '" + this->Patches[patch].Name + "' is also in patch '" +
-          this->Patches[record.Patch].Name + "' (a boundary face belongs to one patch)";
+          this->Patches[slotPatch[slot]].Name + "' (a boundary face belongs to one patch)";
         return false;
       }
       return true; // the same face twice in one patch: written once
     }
-    record.Patch = patch;
-    addFace(patch, record);
+    slotPatch[slot] = patch;
+    addFace(patch, found >> 3, static_cast<int>(found & 7));
     return true;
   };
 
@@ -716,19 +840,16 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
   int defaultPatch = -1;
   for (vtkIdType c = 0; c < nCells; ++c)
   {
-    const unsigned char type = this->CellTypes[c];
-    const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
-    for (int f = 0; f < NumberOfFaces(type); ++f)
+    for (vtkIdType slot = this->FaceSlots[c]; slot < this->FaceSlots[c + 1]; ++slot)
     {
-      FaceRecord& record = faces[CellFaceKey(type, cell, f)];
-      if (record.Count == 1 && record.Patch < 0)
+      if (this->FacePartner[slot] < 0 && slotPatch[slot] < 0)
       {
         if (defaultPatch < 0)
         {
           defaultPatch = patchIndex(defaultPatchName, "boundary");
         }
-        record.Patch = defaultPatch;
-        addFace(defaultPatch, record);
+        slotPatch[slot] = defaultPatch;
+        addFace(defaultPatch, c, static_cast<int>(slot - this->FaceSlots[c]));
         ++unassigned;
       }
     }
@@ -765,58 +886,84 @@ void vtkARSolverMesh::GetInternalFaces(std::vector<vtkIdType>& owner,
   std::vector<vtkIdType>& neighbour, std::vector<vtkIdType>& offsets,
   std::vector<vtkIdType>& connectivity) const
 {
-  struct Shared
-  {
-    vtkIdType Owner, Neighbour;
-    int LocalFace;
+  // A shared face belongs to the side with the lower 8 * cell + local face:
+  // the lower cell is the owner. Each cell's faces sorted by that of the
+  // other side: upper-triangular order, ties (two cells sharing two faces)
+  // in the neighbour's face order.
+  const vtkIdType nCells = this->GetNumberOfCells();
+  auto owns = [this](vtkIdType c, vtkIdType slot) {
+    const vtkIdType other = this->FacePartner[slot];
+    return other >= 0 && other > 8 * c + (slot - this->FaceSlots[c]);
   };
-  std::vector<Shared> shared;
-  {
-    // Cells in increasing order: a face's first cell is its owner.
-    std::unordered_map<FaceKey, std::pair<vtkIdType, int>, FaceKeyHash> open;
-    open.reserve(static_cast<size_t>(this->GetNumberOfCells()) * 2);
-    for (vtkIdType c = 0; c < this->GetNumberOfCells(); ++c)
-    {
-      const unsigned char type = this->CellTypes[c];
-      const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
-      for (int f = 0; f < NumberOfFaces(type); ++f)
+  std::vector<vtkIdType> firstFace(static_cast<size_t>(nCells) + 1, 0);
+  std::vector<unsigned char> localFace;
+  Threaded([&]() {
+    vtkSMPTools::For(0, nCells, [&](vtkIdType first, vtkIdType last) {
+      for (vtkIdType c = first; c < last; ++c)
       {
-        const FaceKey key = CellFaceKey(type, cell, f);
-        auto it = open.find(key);
-        if (it == open.end())
+        vtkIdType n = 0;
+        for (vtkIdType slot = this->FaceSlots[c]; slot < this->FaceSlots[c + 1]; ++slot)
         {
-          open.emplace(key, std::make_pair(c, f));
+          n += owns(c, slot) ? 1 : 0;
         }
-        else
+        firstFace[c + 1] = n;
+      }
+    });
+  });
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    firstFace[c + 1] += firstFace[c];
+  }
+  const vtkIdType nInternal = firstFace[nCells];
+  owner.resize(static_cast<size_t>(nInternal));
+  neighbour.resize(static_cast<size_t>(nInternal));
+  localFace.resize(static_cast<size_t>(nInternal));
+  offsets.resize(static_cast<size_t>(nInternal) + 1);
+  offsets[0] = 0;
+  Threaded([&]() {
+    vtkSMPTools::For(0, nCells, [&](vtkIdType first, vtkIdType last) {
+      for (vtkIdType c = first; c < last; ++c)
+      {
+        std::pair<vtkIdType, int> mine[6];
+        int n = 0;
+        for (vtkIdType slot = this->FaceSlots[c]; slot < this->FaceSlots[c + 1]; ++slot)
         {
-          shared.push_back({ it->second.first, c, it->second.second });
-          open.erase(it);
+          if (owns(c, slot))
+          {
+            mine[n++] = { this->FacePartner[slot], static_cast<int>(slot - this->FaceSlots[c]) };
+          }
+        }
+        std::sort(mine, mine + n);
+        for (int i = 0; i < n; ++i)
+        {
+          const vtkIdType k = firstFace[c] + i;
+          owner[k] = c;
+          neighbour[k] = mine[i].first >> 3;
+          localFace[k] = static_cast<unsigned char>(mine[i].second);
+          offsets[k + 1] = FaceSize(Face(this->CellTypes[c], mine[i].second));
         }
       }
-    }
-  }
-  std::stable_sort(shared.begin(), shared.end(), [](const Shared& a, const Shared& b) {
-    return a.Owner != b.Owner ? a.Owner < b.Owner : a.Neighbour < b.Neighbour;
+    });
   });
-  owner.resize(shared.size());
-  neighbour.resize(shared.size());
-  offsets.assign(1, 0);
-  offsets.reserve(shared.size() + 1);
-  connectivity.clear();
-  connectivity.reserve(shared.size() * 4);
-  for (size_t i = 0; i < shared.size(); ++i)
+  for (vtkIdType k = 0; k < nInternal; ++k)
   {
-    owner[i] = shared[i].Owner;
-    neighbour[i] = shared[i].Neighbour;
-    const unsigned char type = this->CellTypes[shared[i].Owner];
-    const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[shared[i].Owner];
-    const int* face = Face(type, shared[i].LocalFace);
-    for (int k = 0; k < FaceSize(face); ++k)
-    {
-      connectivity.push_back(cell[face[k]]);
-    }
-    offsets.push_back(static_cast<vtkIdType>(connectivity.size()));
+    offsets[k + 1] += offsets[k];
   }
+  connectivity.resize(static_cast<size_t>(offsets[nInternal]));
+  Threaded([&]() {
+    vtkSMPTools::For(0, nInternal, [&](vtkIdType first, vtkIdType last) {
+      for (vtkIdType k = first; k < last; ++k)
+      {
+        const vtkIdType c = owner[k];
+        const vtkIdType* cell = this->CellConnectivity.data() + this->CellOffsets[c];
+        const int* face = Face(this->CellTypes[c], localFace[k]);
+        for (vtkIdType i = 0; i < offsets[k + 1] - offsets[k]; ++i)
+        {
+          connectivity[offsets[k] + i] = cell[face[i]];
+        }
+      }
+    });
+  });
 }
 
 //------------------------------------------------------------------------------

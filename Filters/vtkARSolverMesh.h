@@ -76,6 +76,12 @@ public:
   std::vector<vtkIdType> CellOffsets{ 0 };
   std::vector<vtkIdType> CellConnectivity; // VTK node order, model point ids
   std::vector<Patch> Patches;
+  /// The face table, from Build's one pass over the cell faces: cell c's
+  /// local face f (ar::CellFace order) is slot FaceSlots[c] + f, and
+  /// FacePartner[slot] is the same face of the other cell, as 8 * cell +
+  /// local face, or -1 on the boundary. GetInternalFaces reads it.
+  std::vector<vtkIdType> FaceSlots{ 0 };
+  std::vector<vtkIdType> FacePartner;
   /// The dataset the volume cells came from (not owned: valid while the
   /// input lives), and for each model point / cell its id there: the point
   /// and cell arrays of the input are read through these.
@@ -99,7 +105,8 @@ public:
   /// The faces shared by two model cells, in OpenFOAM's upper-triangular
   /// order: sorted by owner (the lower cell id), then by neighbour; each
   /// face as the owner's cell face, so its right-hand normal points from
-  /// owner to neighbour. `offsets` starts with 0.
+  /// owner to neighbour. `offsets` starts with 0. From the face table (no
+  /// second face search); threaded with vtkSMPTools, the same result.
   void GetInternalFaces(std::vector<vtkIdType>& owner, std::vector<vtkIdType>& neighbour,
     std::vector<vtkIdType>& offsets, std::vector<vtkIdType>& connectivity) const;
 
@@ -123,6 +130,12 @@ public:
 
   /// Shortest round-trip text of a double ("%.17g").
   static void AppendDouble(std::string& s, double v);
+
+  /// Runs `work` (vtkSMPTools loops) on the STDThread backend when the
+  /// process's is Sequential (ParaView's default) and the user has not
+  /// chosen one (VTK_SMP_BACKEND_IN_USE): scoped with
+  /// vtkSMPTools::LocalScope, the process's backend is left as it is.
+  static void Threaded(const std::function<void()>& work);
 };
 
 #endif

@@ -24,16 +24,21 @@
 #include "vtkPointDataToCellData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
+#include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <limits>
 #include <map>
 #include <regex>
 #include <set>
@@ -285,15 +290,60 @@ bool ReadText(const fs::path& path, std::string& text)
   return static_cast<bool>(in) || in.eof();
 }
 
-/// A dictionary file: its entries, the FoamFile header's entries.
+/// Empties the list of a field's `internalField nonuniform List<...> n
+/// (...)` (the keyword at the start of a line): the writer needs to know
+/// only that it is nonuniform, and the text passes below, char by char,
+/// cost about a second per 1e6 cells and field.
+void DropInternalFieldList(std::string& text)
+{
+  const std::string keyword = "internalField";
+  for (size_t at = text.find(keyword); at != std::string::npos; at = text.find(keyword, at + 1))
+  {
+    const size_t line = text.find_last_not_of(" \t", at == 0 ? 0 : at - 1);
+    if (at > 0 && line != std::string::npos && text[line] != '\n')
+    {
+      continue; // not at the start of a line ($internalField, a comment)
+    }
+    size_t i = text.find_first_not_of(" \t\r\n", at + keyword.size());
+    if (i == std::string::npos || text.compare(i, 10, "nonuniform") != 0)
+    {
+      return;
+    }
+    const size_t open = text.find('(', i);
+    const size_t semicolon = text.find(';', i);
+    if (open == std::string::npos || (semicolon != std::string::npos && semicolon < open))
+    {
+      return;
+    }
+    int depth = 0;
+    for (i = open; i < text.size(); ++i)
+    {
+      depth += text[i] == '(' ? 1 : text[i] == ')' ? -1 : 0;
+      if (depth == 0)
+      {
+        text.erase(open + 1, i - open - 1);
+        return;
+      }
+    }
+    return; // not closed: the parser below says so
+  }
+}
+
+/// A dictionary file: its entries, the FoamFile header's entries. With
+/// `field`, a nonuniform internalField's list is not read (its text is
+/// `nonuniform List<...> n()`).
 bool ReadDictionary(const fs::path& path, std::vector<Entry>& entries,
-  std::vector<Entry>& header, std::string& error)
+  std::vector<Entry>& header, std::string& error, bool field = false)
 {
   std::string text;
   if (!ReadText(path, text))
   {
     error = "cannot read '" + path.string() + "'";
     return false;
+  }
+  if (field)
+  {
+    DropInternalFieldList(text);
   }
   std::string why;
   if (!SplitEntries(StripComments(text), entries, why))
@@ -347,6 +397,102 @@ void AppendLabelLines(std::string& s, const Labels& labels)
   }
 }
 
+/// A label / scalar as OpenFOAM's binary format holds it (32-bit labels,
+/// 64-bit scalars, this machine's byte order), appended.
+void AppendRawLabel(std::string& s, vtkIdType v)
+{
+  const std::int32_t label = static_cast<std::int32_t>(v);
+  s.append(reinterpret_cast<const char*>(&label), sizeof(label));
+}
+
+void AppendRawScalar(std::string& s, double v)
+{
+  s.append(reinterpret_cast<const char*>(&v), sizeof(v));
+}
+
+/// The `arch` entry of a binary file's header.
+std::string Architecture()
+{
+  const std::uint16_t one = 1;
+  unsigned char first = 0;
+  std::memcpy(&first, &one, 1);
+  return std::string(first == 1 ? "LSB" : "MSB") + ";label=32;scalar=64";
+}
+
+// ============================================================================
+// ---- Big lists: formatted in parallel, written in order.
+/// Writes items [0, n) to `out`, `append(s, i)` appending item i's bytes
+/// (text or raw) to `s`: chunks of items are formatted in parallel
+/// (vtkSMPTools, a batch of chunks at a time so that memory stays bounded)
+/// and written in order, so the file is the serial loop's, byte for byte.
+template <typename Append>
+void WriteItems(std::ostream& out, vtkIdType n, const Append& append)
+{
+  const vtkIdType chunk = 8192;
+  const vtkIdType batch = 128; // chunks in memory at once (about 1e6 items)
+  const vtkIdType nChunks = (n + chunk - 1) / chunk;
+  std::vector<std::string> texts(static_cast<size_t>(std::min(batch, nChunks)));
+  for (vtkIdType b = 0; b < nChunks && out; b += batch)
+  {
+    const vtkIdType e = std::min(nChunks, b + batch);
+    vtkARSolverMesh::Threaded([&]() {
+      vtkSMPTools::For(b, e, 1, [&](vtkIdType first, vtkIdType last) {
+        for (vtkIdType k = first; k < last; ++k)
+        {
+          std::string& text = texts[static_cast<size_t>(k - b)];
+          text.clear();
+          const vtkIdType end = std::min(n, (k + 1) * chunk);
+          for (vtkIdType i = k * chunk; i < end; ++i)
+          {
+            append(text, i);
+          }
+        }
+      });
+    });
+    for (vtkIdType k = b; k < e; ++k)
+    {
+      const std::string& text = texts[static_cast<size_t>(k - b)];
+      out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    }
+  }
+}
+
+/// A List of n items as OpenFOAM writes it: ASCII `n\n(\n` one item per
+/// line `)\n` (`append` ends each item with its newline); binary `n\n(`
+/// the raw items in one block `)\n`, or `n` alone when empty.
+template <typename Append>
+void WriteList(std::ostream& out, bool binary, vtkIdType n, const Append& append)
+{
+  out << n << '\n';
+  if (binary && n == 0)
+  {
+    return;
+  }
+  out << (binary ? "(" : "(\n");
+  WriteItems(out, n, append);
+  out << ")\n";
+}
+
+/// Writes `path`: `body` streams the content. False with `error` when the
+/// file cannot be opened or written.
+bool WriteFile(const fs::path& path, const std::function<void(std::ostream&)>& body, std::string& error)
+{
+  std::ofstream out(path, std::ios::out | std::ios::trunc | std::ios::binary);
+  if (!out)
+  {
+    error = "cannot open '" + path.string() + "' for writing";
+    return false;
+  }
+  body(out);
+  out.close();
+  if (!out)
+  {
+    error = "writing '" + path.string() + "' failed (disk full?)";
+    return false;
+  }
+  return true;
+}
+
 bool IsNumber(const std::string& text, double* value = nullptr)
 {
   if (text.empty())
@@ -367,12 +513,14 @@ bool IsNumber(const std::string& text, double* value = nullptr)
 }
 
 std::string Header(const std::string& cls, const std::string& location,
-  const std::string& object, const std::string& note = "")
+  const std::string& object, const std::string& note = "", bool binary = false)
 {
   std::string s = "/*--------------------------------*- C++ -*----------------------------------*\\\n"
                   "  Written by AdaptiveRedistribution's vtkOpenFOAMCaseWriter\n"
                   "\\*---------------------------------------------------------------------------*/\n"
-                  "FoamFile\n{\n    version     2.0;\n    format      ascii;\n";
+                  "FoamFile\n{\n    version     2.0;\n";
+  s += binary ? "    format      binary;\n    arch        \"" + Architecture() + "\";\n"
+              : "    format      ascii;\n";
   s += "    class       " + cls + ";\n";
   if (!note.empty())
   {
@@ -463,6 +611,7 @@ struct CaseJob
 {
   vtkOpenFOAMCaseWriter* Writer = nullptr;
   vtkARSolverMesh Mesh;
+  bool Binary = false; // the polyMesh and field files in OpenFOAM's binary format
   std::string StartTime;
   fs::path Source;     // empty: no source case
   std::string SourceTime;
@@ -587,7 +736,7 @@ struct CaseJob
         return false;
       }
       std::vector<Entry> entries, head;
-      if (!ReadDictionary(file, entries, head, error))
+      if (!ReadDictionary(file, entries, head, error, /*field=*/true))
       {
         return false;
       }
@@ -904,9 +1053,18 @@ struct CaseJob
     return true;
   }
 
+  /// A cell's value: ASCII text (a vector in brackets), or binary raw doubles.
   void AppendValue(std::string& s, const Field& field, vtkIdType cell) const
   {
     const double* v = field.Values.data() + cell * field.Components;
+    if (this->Binary)
+    {
+      for (int k = 0; k < field.Components; ++k)
+      {
+        AppendRawScalar(s, v[k]);
+      }
+      return;
+    }
     if (field.Components == 1)
     {
       AppendNumber(s, v[0], field.Single);
@@ -932,15 +1090,15 @@ struct CaseJob
     s += std::to_string(p.GetNumberOfFaces());
     if (p.GetNumberOfFaces() == 0)
     {
-      return s + "()";
+      return s + (this->Binary ? "" : "()");
     }
-    s += "\n(\n";
+    s += this->Binary ? "(" : "\n(\n";
     for (vtkIdType f = 0; f < p.GetNumberOfFaces(); ++f)
     {
       this->AppendValue(s, field, p.Cells[f]);
-      s += '\n';
+      s += this->Binary ? "" : "\n";
     }
-    return s + ")\n";
+    return s + (this->Binary ? ")" : ")\n");
   }
 
   /// `uniform <mean>` of a `nonuniform List<type> n(...)` value.
@@ -1087,7 +1245,7 @@ struct CaseJob
   {
     const vtkIdType nCells = this->Mesh.GetNumberOfCells();
     const char* cls = field.Components == 1 ? "volScalarField" : "volVectorField";
-    std::string s = Header(cls, this->StartTime, field.Name);
+    std::string s = Header(cls, this->StartTime, field.Name, "", this->Binary);
     if (field.Source)
     {
       for (const auto& e : field.Source->TopLevel)
@@ -1097,23 +1255,7 @@ struct CaseJob
       }
     }
     s += "dimensions      " + (field.Source ? field.Source->Dimensions : "[0 0 0 0 0 0 0]") + ";\n\n";
-    if (!field.UniformValue.empty())
-    {
-      s += "internalField   " + field.UniformValue + ";\n\n";
-    }
-    else
-    {
-      s += "internalField   nonuniform List<";
-      s += field.Components == 1 ? "scalar" : "vector";
-      s += "> \n" + std::to_string(nCells) + "\n(\n";
-      for (vtkIdType c = 0; c < nCells; ++c)
-      {
-        this->AppendValue(s, field, c);
-        s += '\n';
-      }
-      s += ")\n;\n\n";
-    }
-    s += "boundaryField\n{\n";
+    std::string tail = "boundaryField\n{\n";
     for (size_t p = 0; p < this->Mesh.Patches.size(); ++p)
     {
       std::string body;
@@ -1121,22 +1263,57 @@ struct CaseJob
       {
         return false;
       }
-      s += "    " + this->Mesh.Patches[p].Name + "\n    {\n" + body + "    }\n";
+      tail += "    " + this->Mesh.Patches[p].Name + "\n    {\n" + body + "    }\n";
     }
-    s += "}\n";
-    return Save(dir / field.Name, s, error);
+    tail += "}\n";
+    return WriteFile(dir / field.Name, [&](std::ostream& out) {
+      out << s;
+      if (!field.UniformValue.empty())
+      {
+        out << "internalField   " << field.UniformValue << ";\n\n";
+      }
+      else
+      {
+        out << "internalField   nonuniform List<" << (field.Components == 1 ? "scalar" : "vector")
+            << "> \n";
+        WriteList(out, this->Binary, nCells, [&](std::string& text, vtkIdType c) {
+          this->AppendValue(text, field, c);
+          if (!this->Binary)
+          {
+            text += '\n';
+          }
+        });
+        out << ";\n\n";
+      }
+      out << tail;
+    }, error);
   }
 
   bool WritePolyMesh(const fs::path& dir, std::string& error)
   {
     const vtkARSolverMesh& m = this->Mesh;
+    // Every face: the internal ones, then the boundary faces patch by patch.
     std::vector<vtkIdType> owner, neighbour, offsets, connectivity;
     m.GetInternalFaces(owner, neighbour, offsets, connectivity);
     const vtkIdType nInternal = static_cast<vtkIdType>(owner.size());
-    vtkIdType nFaces = nInternal;
     for (const auto& p : m.Patches)
     {
-      nFaces += p.GetNumberOfFaces();
+      const vtkIdType base = offsets.back();
+      for (vtkIdType f = 0; f < p.GetNumberOfFaces(); ++f)
+      {
+        offsets.push_back(base + p.Offsets[f + 1]);
+      }
+      connectivity.insert(connectivity.end(), p.Connectivity.begin(), p.Connectivity.end());
+      owner.insert(owner.end(), p.Cells.begin(), p.Cells.end());
+    }
+    const vtkIdType nFaces = static_cast<vtkIdType>(owner.size());
+    const bool binary = this->Binary;
+    if (binary &&
+      static_cast<vtkIdType>(connectivity.size()) > std::numeric_limits<std::int32_t>::max())
+    {
+      error = "the mesh's faces have " + std::to_string(connectivity.size()) +
+        " point ids, more than OpenFOAM's 32-bit labels (label=32) can count";
+      return false;
     }
     const std::string note = "nPoints:" + std::to_string(m.GetNumberOfPoints()) +
       "  nCells:" + std::to_string(m.GetNumberOfCells()) + "  nFaces:" + std::to_string(nFaces) +
@@ -1145,85 +1322,85 @@ struct CaseJob
     vtkPointSet* pointSet = vtkPointSet::SafeDownCast(m.Volume);
     const bool single =
       pointSet && pointSet->GetPoints() && pointSet->GetPoints()->GetDataType() == VTK_FLOAT;
-
-    std::string s = Header("vectorField", location, "points");
-    s += std::to_string(m.GetNumberOfPoints()) + "\n(\n";
-    for (vtkIdType i = 0; i < m.GetNumberOfPoints(); ++i)
-    {
-      s += '(';
-      for (int k = 0; k < 3; ++k)
-      {
-        if (k)
+    auto labels = [binary](const std::vector<vtkIdType>& list) {
+      return [binary, &list](std::string& text, vtkIdType i) {
+        if (binary)
         {
-          s += ' ';
+          AppendRawLabel(text, list[i]);
         }
-        AppendNumber(s, m.Points[3 * i + k], single);
-      }
-      s += ")\n";
-    }
-    s += ")\n";
-    if (!Save(dir / "points", s, error))
-    {
-      return false;
-    }
+        else
+        {
+          AppendLabel(text, list[i]);
+          text += '\n';
+        }
+      };
+    };
+
+    bool ok = WriteFile(dir / "points", [&](std::ostream& out) {
+      out << Header("vectorField", location, "points", "", binary);
+      WriteList(out, binary, m.GetNumberOfPoints(), [&](std::string& text, vtkIdType i) {
+        const double* x = &m.Points[3 * i];
+        if (binary)
+        {
+          for (int k = 0; k < 3; ++k)
+          {
+            AppendRawScalar(text, x[k]);
+          }
+          return;
+        }
+        text += '(';
+        for (int k = 0; k < 3; ++k)
+        {
+          if (k)
+          {
+            text += ' ';
+          }
+          AppendNumber(text, x[k], single);
+        }
+        text += ")\n";
+      });
+    }, error);
     this->Writer->UpdateProgress(0.6);
 
-    s = Header("faceList", location, "faces");
-    s += std::to_string(nFaces) + "\n(\n";
-    auto appendFace = [&s](const vtkIdType* ids, vtkIdType n) {
-      AppendLabel(s, n);
-      s += '(';
-      for (vtkIdType i = 0; i < n; ++i)
+    // Binary: a faceCompactList (offsets, then the point ids), as OpenFOAM
+    // writes binary faces; ASCII: a faceList, n(ids) per face.
+    ok = ok && WriteFile(dir / "faces", [&](std::ostream& out) {
+      out << Header(binary ? "faceCompactList" : "faceList", location, "faces", "", binary);
+      if (binary)
       {
-        if (i)
+        WriteList(out, true, nFaces + 1, labels(offsets));
+        WriteList(out, true, static_cast<vtkIdType>(connectivity.size()), labels(connectivity));
+        return;
+      }
+      WriteList(out, false, nFaces, [&](std::string& text, vtkIdType f) {
+        AppendLabel(text, offsets[f + 1] - offsets[f]);
+        text += '(';
+        for (vtkIdType i = offsets[f]; i < offsets[f + 1]; ++i)
         {
-          s += ' ';
+          if (i > offsets[f])
+          {
+            text += ' ';
+          }
+          AppendLabel(text, connectivity[i]);
         }
-        AppendLabel(s, ids[i]);
-      }
-      s += ")\n";
-    };
-    for (vtkIdType f = 0; f < nInternal; ++f)
-    {
-      appendFace(connectivity.data() + offsets[f], offsets[f + 1] - offsets[f]);
-    }
-    for (const auto& p : m.Patches)
-    {
-      for (vtkIdType f = 0; f < p.GetNumberOfFaces(); ++f)
-      {
-        appendFace(p.Connectivity.data() + p.Offsets[f], p.Offsets[f + 1] - p.Offsets[f]);
-      }
-    }
-    s += ")\n";
-    if (!Save(dir / "faces", s, error))
-    {
-      return false;
-    }
-
-    s = Header("labelList", location, "owner", note);
-    s += std::to_string(nFaces) + "\n(\n";
-    AppendLabelLines(s, owner);
-    for (const auto& p : m.Patches)
-    {
-      AppendLabelLines(s, p.Cells);
-    }
-    s += ")\n";
-    if (!Save(dir / "owner", s, error))
-    {
-      return false;
-    }
-
-    s = Header("labelList", location, "neighbour", note);
-    s += std::to_string(nInternal) + "\n(\n";
-    AppendLabelLines(s, neighbour);
-    s += ")\n";
-    if (!Save(dir / "neighbour", s, error))
+        text += ")\n";
+      });
+    }, error);
+    ok = ok && WriteFile(dir / "owner", [&](std::ostream& out) {
+      out << Header("labelList", location, "owner", note, binary);
+      WriteList(out, binary, nFaces, labels(owner));
+    }, error);
+    ok = ok && WriteFile(dir / "neighbour", [&](std::ostream& out) {
+      out << Header("labelList", location, "neighbour", note, binary);
+      WriteList(out, binary, nInternal, labels(neighbour));
+    }, error);
+    if (!ok)
     {
       return false;
     }
     this->Writer->UpdateProgress(0.75);
 
-    s = Header("polyBoundaryMesh", location, "boundary");
+    std::string s = Header("polyBoundaryMesh", location, "boundary");
     s += std::to_string(m.Patches.size()) + "\n(\n";
     vtkIdType start = nInternal;
     for (size_t p = 0; p < m.Patches.size(); ++p)
@@ -1594,6 +1771,7 @@ void vtkOpenFOAMCaseWriter::WriteCase(vtkDataObject* input)
   vtkARInputChecks::Properties ranges;
   ranges.InRange("PointMatchingTolerance", this->PointMatchingTolerance, 0.0, 1.0,
     "a fraction of the volume's bounding-box diagonal");
+  ranges.OneOf("Format", this->Format, { "ascii", "binary" });
   if (!ranges.Ok())
   {
     const std::string why = ranges.Message();
@@ -1602,6 +1780,7 @@ void vtkOpenFOAMCaseWriter::WriteCase(vtkDataObject* input)
   }
   CaseJob job;
   job.Writer = this;
+  job.Binary = this->Format == BINARY;
   job.StartTime = this->StartTime ? this->StartTime : "";
   job.SourceTime = this->SourceTime ? this->SourceTime : "";
   if (!IsNumber(job.StartTime))
@@ -1757,4 +1936,5 @@ void vtkOpenFOAMCaseWriter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "StartTime: " << str(this->StartTime) << "\n";
   os << indent << "DefaultPatchName: " << str(this->DefaultPatchName) << "\n";
   os << indent << "PointMatchingTolerance: " << this->PointMatchingTolerance << "\n";
+  os << indent << "Format: " << (this->Format == BINARY ? "binary" : "ascii") << "\n";
 }

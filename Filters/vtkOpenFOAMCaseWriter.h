@@ -22,7 +22,18 @@
  * on any error (a vtkErrorMacro names the cause) nothing is left behind and
  * an existing case stays as it was.
  *
- * polyMesh (OpenFOAM ASCII, FoamFile headers): the points of the 3-D cells
+ * Format: ASCII (default) or OpenFOAM's binary format (`format binary`,
+ * `arch "LSB;label=32;scalar=64"`): the points, the faces (a
+ * faceCompactList: offsets and point ids), owner, neighbour and the fields'
+ * nonuniform lists as raw 32-bit labels and doubles, everything else text:
+ * the same case, half the size for double-precision fields, faster to write
+ * and to read back (README, bench_foam_case.py). Binary values are the
+ * doubles themselves (no float shortening). A binary case cannot be a
+ * SourceCase (its fields are read as text).
+ * The big lists are formatted in parallel (vtkSMPTools, chunks written in
+ * order: the files do not depend on the number of threads).
+ *
+ * polyMesh (FoamFile headers): the points of the 3-D cells
  * in input order; the cells in input order (tetrahedra, pyramids, wedges,
  * hexahedra, voxels as hexahedra); the faces internal first, in
  * upper-triangular order (sorted by owner, then neighbour; owner <
@@ -145,6 +156,22 @@ public:
   vtkGetMacro(PointMatchingTolerance, double);
   ///@}
 
+  enum FileFormat
+  {
+    ASCII = 0,
+    BINARY = 1
+  };
+
+  ///@{
+  /// The polyMesh and field files' format: ASCII (0, default) or BINARY
+  /// (1, OpenFOAM's binary format, 32-bit labels, 64-bit scalars). Other
+  /// values are refused (nothing written).
+  vtkSetMacro(Format, int);
+  vtkGetMacro(Format, int);
+  void SetFormatToAscii() { this->SetFormat(ASCII); }
+  void SetFormatToBinary() { this->SetFormat(BINARY); }
+  ///@}
+
 protected:
   vtkOpenFOAMCaseWriter();
   ~vtkOpenFOAMCaseWriter() override;
@@ -168,6 +195,7 @@ private:
   char* StartTime = nullptr;
   char* DefaultPatchName = nullptr;
   double PointMatchingTolerance = 1e-6;
+  int Format = ASCII;
 };
 
 #endif

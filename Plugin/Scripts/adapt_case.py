@@ -308,51 +308,81 @@ def x_display():
     return _display[0][1], None
 
 
-def picture(grid, surfaces_vtp, png, title, mach, gas):
-    """shock_pictures.py on `grid` (a solution this script holds, written to
-    a temporary .vtu: reading the case again in the child cost a minute on
-    1e6 cells) in a child pvpython (on a private Xvfb without an X display;
-    a pvbatch child of pvbatch could not open its window). Returns None, or
-    why there is no picture."""
+def pictures(jobs, surfaces_vtp, mach, gas):
+    """shock_pictures.py for each (label, grid, png, title) of `jobs`: the
+    grid (a solution this script holds) written to a temporary .vtu with
+    point data U and T only (reading the case again in the child cost a
+    minute on 1e6 cells), one
+    child pvpython per picture, the children run side by side (on a private
+    Xvfb without an X display; a pvbatch child of pvbatch could not open its
+    window). Returns [(label, png, None or why there is no picture)]."""
     import shutil
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
     if mach is None or gas is None:
-        return "no Mach number for the colour scale (the gas of constant/thermophysicalProperties, or U and T)"
-    vtu = png[:-4] + ".tmp.vtu"
-    w = vtkXMLUnstructuredGridWriter()
-    w.SetInputData(grid)
-    w.SetFileName(vtu)
-    w.SetDataModeToBinary()
-    w.SetCompressorTypeToNone()
-    w.Write()
-    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shock_pictures.py")
-    cmd = [shutil.which("pvpython") or "pvpython", script, vtu, "0", surfaces_vtp, png, "--title", title,
-           "--mach-range", "%.6g" % mach[0], "%.6g" % mach[1], "--gas", "%.17g" % gas[0], "%.17g" % gas[1]]
-    try:
-        return _run_picture(cmd, png)
-    finally:
-        os.remove(vtu)
-
-
-def _run_picture(cmd, png):
+        why = "no Mach number for the colour scale (the gas of constant/thermophysicalProperties, or U and T)"
+        return [(label, png, why) for label, _, png, _ in jobs]
     display, why = x_display()
     if display is None:
-        return why
+        return [(label, png, why) for label, _, png, _ in jobs]
     env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_", "HYDRA_"))}
     env["DISPLAY"] = display
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shock_pictures.py")
+    running = []
+    for label, grid, png, title in jobs:
+        vtu = png[:-4] + ".tmp.vtu"
+        # only what shock_pictures.py reads (point data U and T): the
+        # solution's other arrays doubled the file the child parses
+        slim = grid.NewInstance()
+        slim.ShallowCopy(grid)
+        slim.GetCellData().Initialize()
+        pd = slim.GetPointData()
+        for name in [pd.GetArrayName(i) for i in range(pd.GetNumberOfArrays())]:
+            if name not in ("U", "T"):
+                pd.RemoveArray(name)
+        w = vtkXMLUnstructuredGridWriter()
+        w.SetInputData(slim)
+        w.SetFileName(vtu)
+        w.SetDataModeToBinary()
+        w.SetCompressorTypeToNone()
+        w.Write()
+        cmd = [shutil.which("pvpython") or "pvpython", script, vtu, "0", surfaces_vtp, png, "--title", title,
+               "--mach-range", "%.6g" % mach[0], "%.6g" % mach[1], "--gas", "%.17g" % gas[0], "%.17g" % gas[1]]
+        proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        running.append((label, png, vtu, cmd, proc))
+    out = []
+    for label, png, vtu, cmd, proc in running:
+        text, _ = proc.communicate()
+        try:
+            if proc.returncode == 0 and os.path.isfile(png):
+                why = None
+            elif "bad X server connection" in text:
+                why = _run_picture(cmd, png, env)  # again, one at a time
+            else:
+                why = _picture_failure(proc.returncode, text, display)
+        finally:
+            os.remove(vtu)
+        out.append((label, png, why))
+    return out
+
+
+def _picture_failure(code, text, display):
+    lines = [re.sub(r"\x1b\[[0-9;]*m", "", l) for l in text.splitlines()]
+    said = [l for l in lines if "ERR|" in l or "Error" in l or "shock_pictures.py:" in l] or lines[-1:]
+    return "shock_pictures.py failed (exit %d, DISPLAY %s): %s" % (code, display, " / ".join(said[:3]))
+
+
+def _run_picture(cmd, png, env):
     # An X server started without -noreset (a $DISPLAY given by the user)
     # drops a client that connects while it resets after its last client
     # left ("bad X server connection", 1 in 4 to 6 tries here): try again
     for attempt in range(5):
+        time.sleep(1.0)
         r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         if r.returncode == 0 and os.path.isfile(png):
             return None
         if "bad X server connection" not in r.stdout:
             break
-        time.sleep(1.0)
-    lines = [re.sub(r"\x1b\[[0-9;]*m", "", l) for l in r.stdout.splitlines()]
-    said = [l for l in lines if "ERR|" in l or "Error" in l or "shock_pictures.py:" in l] or lines[-1:]
-    return "shock_pictures.py failed (exit %d, DISPLAY %s): %s" % (r.returncode, display, " / ".join(said[:3]))
+    return _picture_failure(r.returncode, r.stdout, env["DISPLAY"])
 
 
 def picture_rows(pictures):
@@ -361,6 +391,30 @@ def picture_rows(pictures):
         rows.append("%s: %s" % (label, "![%s](%s)" % (label, os.path.basename(png)) if why is None else
                                 "no picture (%s)" % why))
     return rows + [""]
+
+
+class Stages:
+    """Wall-clock seconds per named stage of a cycle, in first-use order:
+    `with stages("read"): ...` adds the block's time to "read"."""
+
+    def __init__(self):
+        self.seconds = {}
+
+    def __call__(self, name):
+        import contextlib
+
+        @contextlib.contextmanager
+        def timed():
+            t = time.perf_counter()
+            try:
+                yield
+            finally:
+                self.seconds[name] = self.seconds.get(name, 0.0) + time.perf_counter() - t
+        return timed()
+
+    def row(self):
+        return "seconds per stage: " + ", ".join("%s %.1f" % kv for kv in self.seconds.items()) + \
+            " (%.1f in all)" % sum(self.seconds.values())
 
 
 def read_solution(case, time_name):
@@ -432,11 +486,14 @@ def main():
         case = os.path.join(target, "cycle%d" % k)
         time_name = latest_time(current)
         report += ["## Cycle %d" % k, "", "adapted `%s` at time %s" % (current, time_name), ""]
-        reader = OpenFOAMReader(FileName=os.path.join(current, "adapt_case.foam"))
-        reader.MeshRegions = ["internalMesh"] + [r for r in reader.MeshRegions.Available if r.startswith("patch/")]
-        reader.CellArrays = reader.CellArrays.Available
-        reader.UpdatePipeline(float(time_name))
-        before = volume_of(servermanager.Fetch(reader))
+        stages = Stages()
+        with stages("read"):
+            reader = OpenFOAMReader(FileName=os.path.join(current, "adapt_case.foam"))
+            reader.MeshRegions = ["internalMesh"] + [r for r in reader.MeshRegions.Available
+                                                     if r.startswith("patch/")]
+            reader.CellArrays = reader.CellArrays.Available
+            reader.UpdatePipeline(float(time_name))
+            before = volume_of(servermanager.Fetch(reader))
         if before is None:
             report.append("**failed**: the OpenFOAM reader found no 3-D cells")
             write_report()
@@ -456,38 +513,43 @@ def main():
             except AttributeError:
                 fail("AdaptToShocks has no property %s (config)" % prop)
         t = time.time()
-        adapt.UpdatePipeline(float(time_name))
+        with stages("AdaptToShocks"):
+            adapt.UpdatePipeline(float(time_name))
         seconds = time.time() - t
-        out = servermanager.Fetch(adapt)
-        after = volume_of(out)
+        with stages("fetch"):
+            out = servermanager.Fetch(adapt)
+            after = volume_of(out)
         if after is None or after.GetCellData().GetArray("Region") is None:
             report.append("**failed**: AdaptToShocks did not adapt the mesh (see its error above)")
             write_report()
             fail("AdaptToShocks did not adapt %s (its message is above)" % current)
-        surfaces = split_surfaces(servermanager.Fetch(adapt, None, None, 1))
-        h_in = (field(out, "InputSizeAtSurface") or field(after, "InputSizeAtSurface") or [float("nan")])[0]
-        P_in = vtk_points(before)
-        depth = [a for a in range(3) if len(np.unique(P_in[:, a])) == 2]
-        # lines 8 of the FIRST input's cells either side: later inputs are
-        # finer at the shock than the shock they carry is thin
-        if k == 1:
-            h_first = h_in
-        stations = shock_stations(surfaces, h_first, depth[0] if depth else None)
-        shock_before = measure_shock(before, stations)
+        with stages("shock measurement"):
+            surfaces = split_surfaces(servermanager.Fetch(adapt, None, None, 1))
+            h_in = (field(out, "InputSizeAtSurface") or field(after, "InputSizeAtSurface") or [float("nan")])[0]
+            P_in = vtk_points(before)
+            depth = [a for a in range(3) if len(np.unique(P_in[:, a])) == 2]
+            # lines 8 of the FIRST input's cells either side: later inputs are
+            # finer at the shock than the shock they carry is thin
+            if k == 1:
+                h_first = h_in
+            stations = shock_stations(surfaces, h_first, depth[0] if depth else None)
+            shock_before = measure_shock(before, stations)
         from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
         surfaces_vtp = os.path.join(target, "cycle%d_surfaces.vtp" % k)
-        w = vtkXMLPolyDataWriter()
-        w.SetInputData(servermanager.Fetch(adapt, None, None, 1))
-        w.SetFileName(surfaces_vtp)
-        w.SetDataModeToBinary()
-        w.Write()
-        gas = gas_of(current)
-        try:
-            mach = mach_range(before, gas) if gas else None
-        except (ValueError, TypeError, AttributeError):
-            mach = None  # the pictures say why there are none
-        SaveData(os.path.join(case, "cycle%d.foam" % k), proxy=adapt, SourceCase=current, SourceTime=time_name,
-                 StartTime="0")
+        with stages("report"):
+            w = vtkXMLPolyDataWriter()
+            w.SetInputData(servermanager.Fetch(adapt, None, None, 1))
+            w.SetFileName(surfaces_vtp)
+            w.SetDataModeToBinary()
+            w.Write()
+            gas = gas_of(current)
+            try:
+                mach = mach_range(before, gas) if gas else None
+            except (ValueError, TypeError, AttributeError):
+                mach = None  # the pictures say why there are none
+        with stages("write"):
+            SaveData(os.path.join(case, "cycle%d.foam" % k), proxy=adapt, SourceCase=current, SourceTime=time_name,
+                     StartTime="0")
         if not os.path.isfile(os.path.join(case, "constant", "polyMesh", "owner")):
             report.append("**failed**: the case writer wrote nothing (its error is above)")
             write_report()
@@ -496,8 +558,9 @@ def main():
         cd_path = os.path.join(case, "system", "controlDict")
         with open(cd_path) as f:
             cd = f.read()
-        h0, two_d = cell_scale(before)
-        h1, _ = cell_scale(after)
+        with stages("report"):
+            h0, two_d = cell_scale(before)
+            h1, _ = cell_scale(after)
         dt0 = float(dict_entry(cd, "deltaT") or "nan")
         dt1 = dt0 * min(1.0, h1 / h0)
         cd = set_entry(set_entry(set_entry(cd, "startFrom", "startTime"), "startTime", "0"), "deltaT", "%.6g" % dt1)
@@ -510,7 +573,9 @@ def main():
         report += ["| | before | after |", "|---|---:|---:|",
                    "| nodes | %d | %d |" % (before.GetNumberOfPoints(), after.GetNumberOfPoints()),
                    "| cells | %d | %d |" % (before.GetNumberOfCells(), after.GetNumberOfCells())]
-        types0, types1 = cell_types(before), cell_types(after)
+        with stages("report"):
+            types0, types1 = cell_types(before), cell_types(after)
+            hist = angle_histogram(after)
         for name in sorted(set(types0) | set(types1)):
             report.append("| %s | %d | %d |" % (name, types0.get(name, 0), types1.get(name, 0)))
         report += ["| smallest cell size (%s) | %.3g | %.3g |" % ("sqrt of area" if two_d else "V^(1/3)", h0, h1),
@@ -518,7 +583,6 @@ def main():
         report.append("AdaptToShocks in %.1f s: %d surface(s) (%s); new cells at the shock %.2f of the input's size "
                       "(SurfaceSizeRatio)" % (seconds, len(templates), ", ".join(templates),
                                               (fd("SurfaceSizeRatio") or [float("nan")])[0]))
-        hist = angle_histogram(after)
         if hist:
             edges, counts, worst = hist
             report += ["", "smallest dihedral angle of the new cells (degrees; min %.1f):" % worst, "",
@@ -526,16 +590,18 @@ def main():
                        "|" + "---:|" * len(counts), "| " + " | ".join(str(int(c)) for c in counts) + " |"]
         report += shock_rows(shock_before, None, templates, h_in)
         report.append("")
-        def shown(label, grid, name, title):
-            png = os.path.join(target, "cycle%d_%s.png" % (k, name))
-            return label, png, picture(grid, surfaces_vtp, png, title, mach, gas)
+        def job(label, grid, name, title):
+            return label, grid, os.path.join(target, "cycle%d_%s.png" % (k, name)), title
 
-        pictures = [shown("cycle %d, before (the input's solution)" % k, before, "before",
-                          "cycle %d: the input's solution, its mesh" % k)]
-        if not args.solve:
-            pictures.append(shown("cycle %d, the adapted mesh with the interpolated start field" % k, after, "start",
-                                  "cycle %d: adapted mesh, start field" % k))
-        report += picture_rows(pictures)
+        with stages("pictures"):
+            jobs = [job("cycle %d, before (the input's solution)" % k, before, "before",
+                        "cycle %d: the input's solution, its mesh" % k)]
+            if not args.solve:
+                jobs.append(job("cycle %d, the adapted mesh with the interpolated start field" % k, after,
+                                "start", "cycle %d: adapted mesh, start field" % k))
+            shown = pictures(jobs, surfaces_vtp, mach, gas)
+        report += picture_rows(shown)
+        report += [stages.row(), ""]
         write_report()
         for p in (reader, adapt):
             Delete(p)
@@ -569,8 +635,8 @@ def main():
             report += ["", "solved in %.1f s in all, latest time %s" % (total, latest_time(case))]
             solved = read_solution(case, latest_time(case))
             report += shock_rows(None, measure_shock(solved, stations), templates, h_in) + [""]
-            report += picture_rows([shown("cycle %d, after (solved on the adapted mesh)" % k, solved, "after",
-                                          "cycle %d: solved on the adapted mesh" % k)])
+            report += picture_rows(pictures([job("cycle %d, after (solved on the adapted mesh)" % k, solved, "after",
+                                                 "cycle %d: solved on the adapted mesh" % k)], surfaces_vtp, mach, gas))
             write_report()
             current = case
     write_report()

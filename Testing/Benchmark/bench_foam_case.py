@@ -4,18 +4,22 @@ the analytic oblique shock's fields, and adapt_case.py without --solve on
 the same cube written as an OpenFOAM case (targets: 5e6 cells written in
 under 15 s; adapt_case.py on 1e6 cells under 60 s end to end).
 
-    pvpython Testing/Benchmark/bench_foam_case.py [--plugin PATH] [--work DIR] [n ...]
+    pvpython Testing/Benchmark/bench_foam_case.py [--plugin PATH] [--work DIR]
+             [--formats ascii binary] [--adapt-max N] [n ...]
 
 n: cubes per side, default 55 95 (998,250 and 5,144,250 tetrahedra).
 Writer: SaveData('<dir>/bench.foam') of the cube with the fields p, U, T,
-rho as cell data (volScalarField/volVectorField, ASCII), no Source Case,
-wall-clock around the call, with the case's size on disk. adapt_case.py:
-the written case gets the validation wedge's system/ and gas
+rho as cell data (volScalarField/volVectorField), no Source Case, in each
+of --formats (the writer's Format; default ascii and binary), wall-clock
+around the call, with the case's size on disk and the time ParaView's
+OpenFOAM reader takes to read it back (internalMesh and every cell array,
+UpdatePipeline). adapt_case.py: the ASCII
+case (the writer reads a Source Case's fields as text) gets the validation wedge's system/ and gas
 (make_validation_case.py) and its fields as time 1, then
 `pvbatch adapt_case.py CASE TARGET` (reading the case with ParaView's
 OpenFOAM reader, AdaptToShocks with its defaults, writing the adapted case)
 is timed as a child process (cubes up to --adapt-max tetrahedra); its
-report's AdaptToShocks seconds are given beside it. Prints a Markdown table.
+report's seconds per stage are printed below the table. Prints a Markdown table.
 """
 import argparse
 import os
@@ -26,7 +30,7 @@ import sys
 import time
 
 import numpy as np
-from paraview.simple import LoadPlugin, SaveData, Delete
+from paraview.simple import LoadPlugin, SaveData, Delete, OpenFOAMReader
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -42,6 +46,8 @@ parser.add_argument("--plugin", default=os.path.join(root, "build", "lib", "para
 parser.add_argument("--work", default="/tmp/ar_bench_foam_case")
 parser.add_argument("--adapt-max", type=int, default=1200000,
                     help="run adapt_case.py only on cubes of at most this many tetrahedra (default 1.2e6)")
+parser.add_argument("--formats", nargs="+", default=["ascii", "binary"], choices=["ascii", "binary"],
+                    help="the writer's Format values timed (default both; ascii is the one adapt_case.py reads)")
 parser.add_argument("sizes", nargs="*", type=int, default=[55, 95])
 args = parser.parse_args()
 LoadPlugin(args.plugin, ns=globals())
@@ -93,23 +99,42 @@ def foam_case(case, time_name="1"):
 
 
 rows = []
+stage_rows = []
 for n in args.sizes:
     grid = cube(n)
     src = producer(grid)
     src.UpdatePipeline()
     target = os.path.join(args.work, "cube%d" % n)
-    shutil.rmtree(target, ignore_errors=True)
-    os.makedirs(os.path.dirname(target), exist_ok=True)
-    t = time.perf_counter()
-    SaveData(os.path.join(target, "bench.foam"), proxy=src)
-    t_write = time.perf_counter() - t
-    ok = os.path.isfile(os.path.join(target, "constant", "polyMesh", "owner"))
-    size = du_mb(target)
+    writes = []
+    for fmt in args.formats:
+        case = target if fmt == "ascii" else target + "_" + fmt
+        shutil.rmtree(case, ignore_errors=True)
+        os.makedirs(os.path.dirname(case), exist_ok=True)
+        extra = {} if fmt == "ascii" else {"Format": fmt}  # the default: also for a plugin without Format
+        t = time.perf_counter()
+        SaveData(os.path.join(case, "bench.foam"), proxy=src, **extra)
+        t_write = time.perf_counter() - t
+        ok = os.path.isfile(os.path.join(case, "constant", "polyMesh", "owner"))
+        t_read = float("nan")
+        if ok:
+            reader = OpenFOAMReader(FileName=os.path.join(case, "bench.foam"), SkipZeroTime=0)
+            reader.Refresh()
+            reader.UpdatePipelineInformation()
+            reader.MeshRegions = ["internalMesh"]
+            reader.CellArrays = reader.CellArrays.Available
+            t = time.perf_counter()
+            reader.UpdatePipeline(0.0)
+            t_read = time.perf_counter() - t
+            Delete(reader)
+        writes.append((fmt, t_write, du_mb(case), ok, t_read))
+        if fmt != "ascii":
+            shutil.rmtree(case, ignore_errors=True)
     Delete(src)
     del grid
     t_adapt = float("nan")
     t_ats = float("nan")
-    if ok and 6 * n ** 3 <= args.adapt_max:
+    ascii_ok = any(w[0] == "ascii" and w[3] for w in writes)
+    if ascii_ok and 6 * n ** 3 <= args.adapt_max:
         foam_case(target)
         adapted = target + "_adapted"
         shutil.rmtree(adapted, ignore_errors=True)
@@ -120,13 +145,23 @@ for n in args.sizes:
         if r.returncode != 0:
             say("adapt_case.py failed on %s:\n%s" % (target, r.stdout[-2000:]))
         else:
-            m = re.search(r"AdaptToShocks in ([0-9.]+) s", open(os.path.join(adapted, "report.md")).read())
+            text = open(os.path.join(adapted, "report.md")).read()
+            m = re.search(r"AdaptToShocks in ([0-9.]+) s", text)
             t_ats = float(m.group(1)) if m else float("nan")
-    rows.append((6 * n ** 3, t_write, size, ok, t_adapt, t_ats))
+            m = re.search(r"^seconds per stage: (.*)$", text, re.M)
+            if m:
+                stage_rows.append((6 * n ** 3, m.group(1)))
+    for fmt, t_write, size, ok, t_read in writes:
+        rows.append((6 * n ** 3, fmt, t_write, size, ok, t_read, t_adapt if fmt == "ascii" else float("nan"),
+                     t_ats if fmt == "ascii" else float("nan")))
     shutil.rmtree(target, ignore_errors=True)
     shutil.rmtree(target + "_adapted", ignore_errors=True)
 
-say("| tets | write s | case MB | written | adapt_case.py (no --solve) s | of which AdaptToShocks s |")
-say("|---:|---:|---:|---|---:|---:|")
+say("| tets | format | write s | case MB | written | read back s | adapt_case.py (no --solve) s | "
+    "of which AdaptToShocks s |")
+say("|---:|---|---:|---:|---|---:|---:|---:|")
 for r in rows:
-    say("| %d | %.1f | %.0f | %s | %.1f | %.1f |" % r)
+    say("| %d | %s | %.1f | %.0f | %s | %.1f | %.1f | %.1f |" % r)
+for tets, text in stage_rows:
+    say("")
+    say("adapt_case.py on %d tets, %s" % (tets, text))

@@ -26,6 +26,7 @@ import os
 import re
 import shutil
 import subprocess
+import time
 
 import numpy as np
 from paraview.simple import *
@@ -87,7 +88,9 @@ def smallest(grid):
 
 # ---- Write only.
 t1 = os.path.join(root, "written")
+started = time.time()
 rc, text = adapt_case(source, t1)
+wall1 = time.time() - started
 case1 = os.path.join(t1, "cycle1")
 check(rc == 0 and check_mesh(case1), "write only: exit %d, checkMesh says 'Mesh OK.'" % rc)
 check(patches(case1) == patches(source) and len(patches(source)) == 6,
@@ -128,6 +131,18 @@ def picture_ok(png):
 check(all(picture_ok(os.path.join(t1, n)) for n in ("cycle1_before.png", "cycle1_start.png"))
       and "![cycle 1, before" in report,
       "write only: the Mach pictures before and on the adapted mesh are in the report")
+# The report's seconds per stage: every stage, together within the run's wall
+# time, AdaptToShocks' the report's own figure.
+stages = re.search(r"^seconds per stage: (.*) \(([0-9.]+) in all\)$", report, re.M)
+seconds = dict((k, float(v)) for k, v in re.findall(r"([A-Za-z][A-Za-z ]*?) ([0-9.]+)(?:, |$)", stages.group(1))) \
+    if stages else {}
+ats = re.search(r"AdaptToShocks in ([0-9.]+) s", report)
+check(list(seconds) == ["read", "AdaptToShocks", "fetch", "shock measurement", "report", "write", "pictures"]
+      and ats and abs(seconds["AdaptToShocks"] - float(ats.group(1))) <= 0.11
+      and abs(sum(seconds.values()) - float(stages.group(2))) <= 0.05 * len(seconds)
+      and sum(seconds.values()) <= wall1,
+      "write only: the report's seconds per stage %s (AdaptToShocks as reported), in all %.1f <= the run's %.1f s"
+      % (seconds, sum(seconds.values()), wall1))
 
 # ---- Two cycles, solved on two ranks, to a bounded end time.
 end = 0.0005

@@ -111,9 +111,10 @@ def _close(text, start):
 
 
 def header(path):
-    """{key: value} of a file's FoamFile header."""
-    with open(path) as f:
-        text = _strip(f.read())
+    """{key: value} of a file's FoamFile header (the file's start only, as
+    bytes: a binary file's raw lists are not text)."""
+    with open(path, "rb") as f:
+        text = _strip(f.read(8192).decode("latin-1"))
     m = re.search(r"FoamFile\s*\{", text)
     inner = text[m.end():_close(text, m.end() - 1)]
     return {k: v.strip().strip('"') for k, v in re.findall(r"(\w+)\s+([^;]*);", inner)}

@@ -509,6 +509,50 @@ bool BuildBand(const std::vector<double>& x, const std::vector<Chain>& chains,
       }
     }
   }
+  // And GapFraction of the distance to any other curve, in every direction:
+  // where two curves come close at a small angle, or one ends next to
+  // another, the rays along the normals can miss it, and the two bands'
+  // outlines would leave the refill only needles between them (0.001
+  // degrees, seen on a second cycle whose shock was fitted in two pieces).
+  if (chains.size() > 1)
+  {
+    std::vector<std::vector<Segment3>> pieces(chains.size());
+    for (std::size_t c = 0; c < chains.size(); ++c)
+    {
+      const std::vector<std::int64_t>& v = chains[c].Nodes;
+      const std::size_t m = v.size(), nSeg = chains[c].Closed ? m : m - 1;
+      for (std::size_t j = 0; j < nSeg; ++j)
+      {
+        const double* a = &x[2 * v[j]];
+        const double* b = &x[2 * v[(j + 1) % m]];
+        pieces[c].emplace_back(Point3(a[0], a[1], 0.0), Point3(b[0], b[1], 0.0));
+      }
+    }
+    std::vector<BoundaryTree> trees(chains.size());
+    for (std::size_t c = 0; c < chains.size(); ++c)
+    {
+      trees[c].insert(pieces[c].begin(), pieces[c].end());
+      trees[c].build();
+      trees[c].accelerate_distance_queries();
+    }
+    for (std::size_t c = 0; c < chains.size(); ++c)
+    {
+      for (const std::int64_t i : chains[c].Nodes)
+      {
+        const Point3 p(x[2 * i], x[2 * i + 1], 0.0);
+        for (std::size_t d = 0; d < chains.size(); ++d)
+        {
+          if (d == c)
+          {
+            continue;
+          }
+          const double gap = o.GapFraction * std::sqrt(CGAL::to_double(trees[d].squared_distance(p)));
+          band.Height[i] = std::min(band.Height[i], gap);
+          band.Height[nCurve + i] = std::min(band.Height[nCurve + i], gap);
+        }
+      }
+    }
+  }
   // Grading along each chain (both directions until nothing changes; it only lowers).
   auto grade = [&]() {
     for (const Chain& c : chains)

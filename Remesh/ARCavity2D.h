@@ -48,7 +48,9 @@
  *    there and the end segment's layer cells are triangles (the quads with
  *    their two corners at the end node merged);
  *  - along the normal, at most GapFraction of the free distance to the
- *    cavity's boundary and to the curves (the other side, other curves);
+ *    cavity's boundary and to the curves (the other side, other curves),
+ *    and at most GapFraction of the distance to any other curve (in any
+ *    direction: rays miss a curve that ends beside this one);
  *  - graded along the curve, |H_u - H_v| <= MaxHeightGradient |x_u - x_v|;
  *  - then every layer cell is checked (each quad corner's sine at least
  *    min(0.05, half its value at layer 0, set by the normals), each end

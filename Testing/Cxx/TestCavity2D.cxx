@@ -713,3 +713,45 @@ TEST(Cavity2D, LayersRefusedInput)
   o.Layers.FirstLayerThickness = 0.0;
   refuses(Line({ 0.2, 0.5 }, { 0.8, 0.5 }, 10), "FirstLayerThickness");
 }
+
+// Two curves close together: a line (y = 0.5) and a shorter one above it
+// (y = 0.53, x in [0.3, 0.6]). Every stack keeps within GapFraction (0.35)
+// of the distance to the other curve in any direction, not only along its
+// normals (past the short line's ends the rays miss it), so the two bands
+// leave the refill a gap.
+TEST(Cavity2D, LayersOfTwoCloseCurves)
+{
+  const ar::Mesh2D grid = QuadGrid(20, 20, 0.05);
+  Curve both = Line({ 0.1, 0.5 }, { 0.9, 0.5 }, 32);
+  const Curve upper = Line({ 0.3, 0.53 }, { 0.6, 0.53 }, 12);
+  const auto base = static_cast<std::int64_t>(both.Points.size() / 2);
+  both.Points.insert(both.Points.end(), upper.Points.begin(), upper.Points.end());
+  for (std::int64_t s : upper.Segments)
+    both.Segments.push_back(s + base);
+  ar::Cavity2DOptions o;
+  o.Layers.NumberOfLayers = 3;
+  o.Layers.TotalThickness = 0.02;
+  ar::Cavity2DRemesh r;
+  std::string error;
+  ASSERT_TRUE(Remesh(grid, both, o, r, error)) << error;
+  EXPECT_EQ(r.LayerQuads, 2u * 3u * (32 - 2 + 12 - 2));
+  EXPECT_EQ(CheckLayered(grid, r, 1.0, 15.0), 2u * 3u * (32 + 12)); // 19.8 in the gap between the bands
+  // Distance from a node to the other curve (a segment y = const, x in [a, b]).
+  auto distance = [](const double* x, double y, double a, double b) {
+    return std::hypot(x[0] - std::clamp(x[0], a, b), x[1] - y);
+  };
+  std::size_t limited = 0;
+  for (std::size_t i = 0; i < r.NumberOfCurvePoints; ++i)
+  {
+    const double* x = &r.Mesh.Points[2 * (r.FirstCurvePoint + i)];
+    const bool lower = std::abs(x[1] - 0.5) < 1e-12;
+    const double d = lower ? distance(x, 0.53, 0.3, 0.6) : distance(x, 0.5, 0.1, 0.9);
+    for (int s = 0; s < 2; ++s)
+    {
+      const double h = r.Heights[s * r.NumberOfCurvePoints + i];
+      EXPECT_LE(h, 0.35 * d + 1e-12) << "node at (" << x[0] << ", " << x[1] << ")";
+      limited += h > 0.0 && h < 0.02 - 1e-12 ? 1 : 0;
+    }
+  }
+  EXPECT_GE(limited, 2u * 11u); // at least both sides of the short line's inner nodes
+}

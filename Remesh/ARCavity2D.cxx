@@ -306,7 +306,7 @@ bool CurveChains(std::size_t nCurve, const std::vector<std::int64_t>& segs, std:
   }
   for (const Chain& c : chains)
   {
-    if (c.Nodes.size() < (c.Closed ? 3u : 3u))
+    if (c.Nodes.size() < 3)
     {
       error = "layers: a feature curve of " + std::to_string(c.Nodes.size() - 1) +
         " segment(s) after the trim cannot carry layers (they taper to nothing at its ends); use a "

@@ -96,56 +96,10 @@ void SurfaceAreaAndDiagonal(
   }
   diagonal = std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi));
 }
-/// The prism-layer options from the filter's properties (NumberOfLayers = 0
-/// when LayerType is Tetrahedra). `edge`: the surface edge length, for the
-/// automatic first layer (the stack half an edge high). False with `problem` naming the
-/// bad property.
+/// The prism-layer options from the filter's properties (vtkEmbeddedRemeshQuality.h).
 bool LayerOptionsOf(vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions& layers, std::string& problem)
 {
-  layers = ar::PrismLayerOptions();
-  if (self->GetLayerType() == vtkEmbeddedRemesh::TETRAHEDRA)
-  {
-    return true;
-  }
-  std::ostringstream msg;
-  if (self->GetLayerType() != vtkEmbeddedRemesh::PRISMS)
-  {
-    msg << "LayerType is " << self->GetLayerType() << "; it must be 0 (Tetrahedra) or 1 (Prisms).";
-  }
-  else if (self->GetNumberOfLayers() < 1 || self->GetNumberOfLayers() > 100)
-  {
-    msg << "NumberOfLayers is " << self->GetNumberOfLayers() << "; prism layers need 1 to 100 per side.";
-  }
-  else if (!(self->GetGrowthRatio() > 0.0) || !std::isfinite(self->GetGrowthRatio()))
-  {
-    msg << "GrowthRatio is " << self->GetGrowthRatio() << "; it must be a positive number.";
-  }
-  else if (!(self->GetFirstLayerThickness() >= 0.0) || !std::isfinite(self->GetFirstLayerThickness()))
-  {
-    msg << "FirstLayerThickness is " << self->GetFirstLayerThickness()
-        << "; it must be positive (or 0 for a stack half a surface edge high).";
-  }
-  else if (!(self->GetTotalThickness() >= 0.0) || !std::isfinite(self->GetTotalThickness()))
-  {
-    msg << "TotalThickness is " << self->GetTotalThickness() << "; it must be positive (or 0 to use FirstLayerThickness).";
-  }
-  if (!msg.str().empty())
-  {
-    problem = "EmbeddedRemesh: " + msg.str();
-    return false;
-  }
-  layers.NumberOfLayers = self->GetNumberOfLayers();
-  layers.GrowthRatio = self->GetGrowthRatio();
-  layers.TotalThickness = self->GetTotalThickness();
-  layers.FirstLayerThickness = self->GetFirstLayerThickness();
-  if (layers.TotalThickness <= 0.0 && layers.FirstLayerThickness <= 0.0)
-  {
-    // Automatic: the stack on each side half a surface edge high (the core
-    // derives the first layer from it). Higher stacks (above about 0.6 edge
-    // on the cone) leave TetGen slivers against the closure at S's border.
-    layers.TotalThickness = 0.5 * edge;
-  }
-  return true;
+  return vtkEmbeddedRemeshLayerOptions(self, edge, layers, problem);
 }
 
 /// The feature surfaces as bare triangles (geometry only: their arrays are
@@ -245,9 +199,10 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
       {
         if (region->GetValue(c) == 2)
         {
-          (shape == ar::CellShape::Wedge       ? sums.NewPrisms
-              : shape == ar::CellShape::Pyramid ? sums.NewPyramids
-                                                : sums.NewLayerTetrahedra) += 1.0;
+          (shape == ar::CellShape::Wedge         ? sums.NewPrisms
+              : shape == ar::CellShape::Pyramid   ? sums.NewPyramids
+              : shape == ar::CellShape::Hexahedron ? sums.NewLayerHexahedra
+                                                  : sums.NewLayerTetrahedra) += 1.0;
         }
         // layer cells: new prism layers, kept non-tetrahedral (near-wall) cells
         sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, q.AspectRatio);
@@ -279,6 +234,7 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
     sums.NewPrisms += s.NewPrisms;
     sums.NewPyramids += s.NewPyramids;
     sums.NewLayerTetrahedra += s.NewLayerTetrahedra;
+    sums.NewLayerHexahedra += s.NewLayerHexahedra;
     sums.NonPositiveJacobian += s.NonPositiveJacobian;
   }
   output->GetCellData()->AddArray(minAngle);
@@ -299,18 +255,19 @@ void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmb
   field("MaxAspectRatioLayerCells", sums.LayerMaxAspectRatio);
   field("MinDihedralAngleLayerCells", sums.LayerCells > 0.0 ? sums.LayerMinDihedral : 0.0);
   field("NonPositiveJacobianCells", sums.NonPositiveJacobian);
-  field("LayerCells", sums.NewPrisms + sums.NewPyramids + sums.NewLayerTetrahedra);
+  field("LayerCells", sums.NewPrisms + sums.NewPyramids + sums.NewLayerTetrahedra + sums.NewLayerHexahedra);
   field("Prisms", sums.NewPrisms);
   field("Pyramids", sums.NewPyramids);
   field("LayerClosureTetrahedra", sums.NewLayerTetrahedra);
+  field("LayerHexahedra", sums.NewLayerHexahedra);
 }
 
 void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
 {
-  double sums[7] = { q.NewCells, q.NewDihedralSum, q.NonPositiveJacobian, q.LayerCells, q.NewPrisms,
-    q.NewPyramids, q.NewLayerTetrahedra };
+  double sums[8] = { q.NewCells, q.NewDihedralSum, q.NonPositiveJacobian, q.LayerCells, q.NewPrisms,
+    q.NewPyramids, q.NewLayerTetrahedra, q.NewLayerHexahedra };
   double maxima[4] = { -q.NewMinDihedral, q.NewMaxAspectRatio, q.LayerMaxAspectRatio, -q.LayerMinDihedral };
-  vtkARMeshKernels::AllReduceSum(sums, 7);
+  vtkARMeshKernels::AllReduceSum(sums, 8);
   vtkARMeshKernels::AllReduceMax(maxima, 4);
   q.NewCells = sums[0];
   q.NewDihedralSum = sums[1];
@@ -319,6 +276,7 @@ void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
   q.NewPrisms = sums[4];
   q.NewPyramids = sums[5];
   q.NewLayerTetrahedra = sums[6];
+  q.NewLayerHexahedra = sums[7];
   q.NewMinDihedral = -maxima[0];
   q.NewMaxAspectRatio = maxima[1];
   q.LayerMaxAspectRatio = maxima[2];
@@ -437,7 +395,8 @@ bool vtkEmbeddedRemeshJobFits(vtkEmbeddedRemesh* self, int dimension, double ext
     cavityElements += 2.0 * inputCells;
   }
   // Prism layers: NumberOfLayers prisms on each side of every S triangle.
-  const double layerElements = dimension == 3 && self->GetLayerType() == vtkEmbeddedRemesh::PRISMS
+  // (2-D: NumberOfLayers quads on each side of every curve segment.)
+  const double layerElements = self->GetLayerType() == vtkEmbeddedRemesh::PRISMS
     ? 2.0 * self->GetNumberOfLayers() * boundaryElements
     : 0.0;
   const double total = boundaryElements + cavityElements + layerElements;
@@ -467,6 +426,55 @@ bool vtkEmbeddedRemeshJobFits(vtkEmbeddedRemesh* self, int dimension, double ext
       << " (0 for both chooses the edge from the input's size at S, " << inputSize << ").";
   problem = msg.str();
   return false;
+}
+
+//------------------------------------------------------------------------------
+bool vtkEmbeddedRemeshLayerOptions(vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions& layers, std::string& problem)
+{
+  layers = ar::PrismLayerOptions();
+  if (self->GetLayerType() == vtkEmbeddedRemesh::TETRAHEDRA)
+  {
+    return true;
+  }
+  std::ostringstream msg;
+  if (self->GetLayerType() != vtkEmbeddedRemesh::PRISMS)
+  {
+    msg << "LayerType is " << self->GetLayerType() << "; it must be 0 (Tetrahedra) or 1 (Prisms).";
+  }
+  else if (self->GetNumberOfLayers() < 1 || self->GetNumberOfLayers() > 100)
+  {
+    msg << "NumberOfLayers is " << self->GetNumberOfLayers() << "; prism layers need 1 to 100 per side.";
+  }
+  else if (!(self->GetGrowthRatio() > 0.0) || !std::isfinite(self->GetGrowthRatio()))
+  {
+    msg << "GrowthRatio is " << self->GetGrowthRatio() << "; it must be a positive number.";
+  }
+  else if (!(self->GetFirstLayerThickness() >= 0.0) || !std::isfinite(self->GetFirstLayerThickness()))
+  {
+    msg << "FirstLayerThickness is " << self->GetFirstLayerThickness()
+        << "; it must be positive (or 0 for a stack half a surface edge high).";
+  }
+  else if (!(self->GetTotalThickness() >= 0.0) || !std::isfinite(self->GetTotalThickness()))
+  {
+    msg << "TotalThickness is " << self->GetTotalThickness() << "; it must be positive (or 0 to use FirstLayerThickness).";
+  }
+  if (!msg.str().empty())
+  {
+    problem = "EmbeddedRemesh: " + msg.str();
+    return false;
+  }
+  layers.NumberOfLayers = self->GetNumberOfLayers();
+  layers.GrowthRatio = self->GetGrowthRatio();
+  layers.TotalThickness = self->GetTotalThickness();
+  layers.FirstLayerThickness = self->GetFirstLayerThickness();
+  if (layers.TotalThickness <= 0.0 && layers.FirstLayerThickness <= 0.0)
+  {
+    // Automatic: the stack on each side half a surface edge high (the core
+    // derives the first layer from it). Higher stacks (above about 0.6 edge
+    // on the cone) leave TetGen slivers against the closure at S's border.
+    layers.TotalThickness = 0.5 * edge;
+  }
+  return true;
 }
 
 void vtkEmbeddedRemeshAddLayerFields(
@@ -763,11 +771,6 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
     vtkEmbeddedRemeshLayout layout;
     if (vtkEmbeddedRemeshDetect2D(input, layout, not2D))
     {
-      if (this->LayerType != TETRAHEDRA)
-      {
-        return passThrough("EmbeddedRemesh: LayerType Prisms is for 3-D meshes; this mesh is one cell "
-                           "deep (2-D mode). Use Tetrahedra, or set TwoDimensional to Off.");
-      }
       return this->Remesh2D(input, layout, surfaces, output, embedded, planes);
     }
   }

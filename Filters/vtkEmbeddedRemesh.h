@@ -91,13 +91,21 @@
  * other patches pass through. Field data adds TwoDimensional (1; 0 in 3-D
  * mode), InputNodes, OutputNodes, NewNodes, SurfaceQuads and
  * MinTriangleAngleNew; the node counts are 3-D points (front and back).
+ * With LayerType PRISMS the 2-D mode builds layers of quads on both sides
+ * of the curves (ar::RemeshLocalCavity2D's Layers: the same layer options
+ * and stack rule as in 3-D, the stack tapered to 0 at a curve's ends, whose
+ * segments get triangles), extruded into VTK_HEXAHEDRON (the end triangles
+ * into VTK_WEDGE); Region 2, Layer and LayerSide as in 3-D, field data
+ * LayerHexahedra, Prisms (the end wedges), LayerCells, LimitedColumns,
+ * LayerStackHeight, FirstLayerThicknessUsed, MaxAspectRatioLayerCells; the
+ * hexahedra's quads join the rebuilt front and back patches.
  * The 2-D mode runs on one rank only (refused under MPI).
  *
  * Field data in both modes: InputNodes, OutputNodes, NewNodes (points of
  * the input, of the output, and new ones; RemovedNodes = the input points
  * that are gone), TwoDimensional.
  *
- * Prism layers (LayerType = PRISMS; 3-D; under MPI equal to the serial run): ar::BuildPrismLayers
+ * Prism layers (LayerType = PRISMS; 3-D here, 2-D above; under MPI equal to the serial run): ar::BuildPrismLayers
  * extrudes NumberOfLayers layers of VTK_WEDGE on each side of the remeshed
  * S along smoothed normals (layer k FirstLayerThickness * GrowthRatio^k, or
  * TotalThickness per side), closes the stack at S's border with VTK_PYRAMID

@@ -482,6 +482,14 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   options.BoundaryMargin = this->BoundaryMargin;
   options.MinAngle = this->MinTriangleAngle;
   options.FullDomain = this->Mode == FULL_DOMAIN;
+  {
+    std::string problem;
+    if (!vtkEmbeddedRemeshLayerOptions(this, edge, options.Layers, problem))
+    {
+      return passThrough(problem.substr(std::string("EmbeddedRemesh: ").size()));
+    }
+  }
+  const bool layered = options.Layers.NumberOfLayers > 0;
   ar::Cavity2DRemesh result;
   std::string error;
   bool ok = false;
@@ -598,8 +606,17 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   output->SetPoints(points);
   output->Allocate(static_cast<vtkIdType>(result.SourceCell.size() + otherCells.size() + planeCells.size()));
   std::vector<vtkIdType> sourceCell; // input cell of each output cell
-  vtkNew<vtkIntArray> region;
-  region->SetName("Region");
+  vtkNew<vtkIntArray> region, layerOf, sideOf;
+  region->SetName("Region");  // 0 kept, 1 new triangle (wedge), 2 layer cell
+  layerOf->SetName("Layer");  // layer cells: k, 0 next to the curve; others -1
+  sideOf->SetName("LayerSide"); // layer cells: +1 on the curve's left (ARCavity2D.h), -1 on its right; others 0
+  auto addLayer = [&](int k, int s) {
+    if (layered)
+    {
+      layerOf->InsertNextValue(k);
+      sideOf->InsertNextValue(s);
+    }
+  };
   vtkNew<vtkStaticCellLocator> cells;
   cells->SetDataSet(input);
   cells->BuildLocator();
@@ -635,19 +652,39 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       output->InsertNextCell(type, ids);
       sourceCell.push_back(in);
       region->InsertNextValue(0);
+      addLayer(-1, 0);
       ++keptCount;
       continue;
     }
-    // A counter-clockwise triangle (a, b, c) in (U, V): its normal points to
-    // Hi, so the wedge's base on Lo is (a, c, b) (VTK: the base's normal
-    // points away from the top).
-    const vtkIdType lo[3] = { pair[v[0]][0], pair[v[2]][0], pair[v[1]][0] };
-    const vtkIdType hi[3] = { pair[v[0]][1], pair[v[2]][1], pair[v[1]][1] };
-    const vtkIdType wedge[6] = { lo[0], lo[1], lo[2], hi[0], hi[1], hi[2] };
-    output->InsertNextCell(VTK_WEDGE, 6, wedge);
-    double centre[3];
-    centre[U] = (result.Mesh.Points[2 * v[0]] + result.Mesh.Points[2 * v[1]] + result.Mesh.Points[2 * v[2]]) / 3.0;
-    centre[V] = (result.Mesh.Points[2 * v[0] + 1] + result.Mesh.Points[2 * v[1] + 1] + result.Mesh.Points[2 * v[2] + 1]) / 3.0;
+    vtkEmbeddedRemeshPlanes::Wedge w;
+    if (n == 3)
+    {
+      // A counter-clockwise triangle (a, b, c) in (U, V): its normal points to
+      // Hi, so the wedge's base on Lo is (a, c, b) (VTK: the base's normal
+      // points away from the top).
+      const vtkIdType lo[3] = { pair[v[0]][0], pair[v[2]][0], pair[v[1]][0] };
+      const vtkIdType hi[3] = { pair[v[0]][1], pair[v[2]][1], pair[v[1]][1] };
+      const vtkIdType wedge[6] = { lo[0], lo[1], lo[2], hi[0], hi[1], hi[2] };
+      output->InsertNextCell(VTK_WEDGE, 6, wedge);
+      w.Face[0] = { lo[0], lo[1], lo[2] }; // normal -axis: out of the domain on Lo
+      w.Face[1] = { hi[0], hi[2], hi[1] }; // normal +axis: out of the domain on Hi
+    }
+    else
+    {
+      // A layer quad (a, b, c, d), counter-clockwise: the hexahedron's base
+      // on Lo is (a, b, c, d) (VTK: the base's normal points to the top).
+      const vtkIdType hex[8] = { pair[v[0]][0], pair[v[1]][0], pair[v[2]][0], pair[v[3]][0], pair[v[0]][1],
+        pair[v[1]][1], pair[v[2]][1], pair[v[3]][1] };
+      output->InsertNextCell(VTK_HEXAHEDRON, 8, hex);
+      w.Face[0] = { hex[0], hex[3], hex[2], hex[1] };
+      w.Face[1] = { hex[4], hex[5], hex[6], hex[7] };
+    }
+    double centre[3] = { 0.0, 0.0, 0.0 };
+    for (std::int64_t j = 0; j < n; ++j)
+    {
+      centre[U] += result.Mesh.Points[2 * v[j]] / static_cast<double>(n);
+      centre[V] += result.Mesh.Points[2 * v[j] + 1] / static_cast<double>(n);
+    }
     centre[axis] = mid;
     double pcoords[3];
     int subId;
@@ -658,12 +695,11 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       cells->FindClosestPoint(centre, closest, gcell, in, subId, dist2);
     }
     sourceCell.push_back(in);
-    region->InsertNextValue(1);
+    const bool layerCell = layered && result.CellLayer[c] >= 0;
+    region->InsertNextValue(layerCell ? 2 : 1);
+    addLayer(layerCell ? result.CellLayer[c] : -1, layerCell ? result.CellSide[c] : 0);
     ++newCount;
-    vtkEmbeddedRemeshPlanes::Wedge w;
     w.Source = in;
-    w.Face[0] = { lo[0], lo[1], lo[2] };   // normal -axis: out of the domain on Lo
-    w.Face[1] = { hi[0], hi[2], hi[1] };   // normal +axis: out of the domain on Hi
     wedges.push_back(w);
   }
   const vtkIdType nVolumeOut = static_cast<vtkIdType>(sourceCell.size());
@@ -677,6 +713,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     output->InsertNextCell(input->GetCellType(c), ids);
     sourceCell.push_back(c);
     region->InsertNextValue(0);
+    addLayer(-1, 0);
   }
   for (const vtkIdType c : planeCells)
   {
@@ -693,6 +730,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     output->InsertNextCell(input->GetCellType(c), ids);
     sourceCell.push_back(c);
     region->InsertNextValue(0);
+    addLayer(-1, 0);
   }
   // Per input volume cell: its index among the volume cells.
   std::vector<vtkIdType> volumeIndex(input->GetNumberOfCells(), -1);
@@ -711,9 +749,11 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       {
         continue;
       }
-      output->InsertNextCell(VTK_TRIANGLE, 3, w.Face[s].data());
+      const bool quad = w.Face[s].size() == 4;
+      output->InsertNextCell(quad ? VTK_QUAD : VTK_TRIANGLE, static_cast<vtkIdType>(w.Face[s].size()), w.Face[s].data());
       sourceCell.push_back(it->second);
       region->InsertNextValue(1);
+      addLayer(-1, 0);
       ++patchTriangles;
     }
   }
@@ -738,6 +778,11 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     }
   }
   output->GetCellData()->AddArray(region);
+  if (layered)
+  {
+    output->GetCellData()->AddArray(layerOf);
+    output->GetCellData()->AddArray(sideOf);
+  }
   const vtkEmbeddedRemeshQuality quality = vtkEmbeddedRemeshAddQualityArrays(output, region);
 
   // ---- Field data and the embedded surface (quads: the extruded curve segments).
@@ -763,6 +808,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   vtkEmbeddedRemeshAddQualityFields(output, quality);
   field("RelativeVolumeChange", areaBefore > 0.0 ? (areaAfter - areaBefore) / areaBefore : 0.0);
   field("PatchTrianglesNew", static_cast<double>(patchTriangles));
+  vtkEmbeddedRemeshAddLayerFields(output, options.Layers, static_cast<double>(result.LimitedColumns));
   vtkNew<vtkCellArray> quads;
   for (std::size_t s = 0; s < result.Curve.size(); s += 2)
   {
@@ -858,7 +904,7 @@ vtkSmartPointer<vtkPolyData> vtkEmbeddedRemeshRebuildPatch(vtkPolyData* leaf, co
     return nullptr;
   }
   // The new triangles of this leaf and their source faces.
-  std::vector<std::pair<std::array<vtkIdType, 3>, vtkIdType>> added;
+  std::vector<std::pair<std::vector<vtkIdType>, vtkIdType>> added;
   for (const auto& w : planes.Wedges)
   {
     for (int s = 0; w.Source >= 0 && s < 2; ++s)
@@ -934,15 +980,15 @@ vtkSmartPointer<vtkPolyData> vtkEmbeddedRemeshRebuildPatch(vtkPolyData* leaf, co
   }
   for (const auto& a : added)
   {
-    vtkIdType tri[3];
-    for (int k = 0; k < 3; ++k)
+    std::vector<vtkIdType> face(a.first.size());
+    for (std::size_t k = 0; k < face.size(); ++k)
     {
       double x[3];
       planes.Output->GetPoint(a.first[k], x);
       auto it = leafPoint.find(Coord{ x[0], x[1], x[2] });
-      tri[k] = it != leafPoint.end() ? outOfLeaf[it->second] : outOfVolume.at(a.first[k]);
+      face[k] = it != leafPoint.end() ? outOfLeaf[it->second] : outOfVolume.at(a.first[k]);
     }
-    polys->InsertNextCell(3, tri);
+    polys->InsertNextCell(static_cast<vtkIdType>(face.size()), face.data());
     cellSource.push_back(a.second);
   }
   out->SetPolys(polys);

@@ -38,7 +38,8 @@ struct vtkEmbeddedRemeshLayout
 bool vtkEmbeddedRemeshDetect2D(vtkUnstructuredGrid* input, vtkEmbeddedRemeshLayout& layout, std::string& why);
 
 /// After a 2-D remesh: the input's faces on the planes and what became of
-/// their cells, and the new wedges' faces on the planes.
+/// their cells, and the new cells' faces on the planes (wedges, and the
+/// layers' hexahedra).
 struct vtkEmbeddedRemeshPlanes
 {
   bool Valid = false;
@@ -52,7 +53,7 @@ struct vtkEmbeddedRemeshPlanes
   struct Wedge
   {
     vtkIdType Source;                 ///< the input cell that contains the wedge
-    std::array<vtkIdType, 3> Face[2]; ///< its triangles on Lo and Hi, output ids, normals pointing out of the domain
+    std::vector<vtkIdType> Face[2]; ///< its faces on Lo and Hi (triangles, or quads of layer hexahedra), output ids, normals pointing out of the domain
   };
   std::vector<Wedge> Wedges;
 };

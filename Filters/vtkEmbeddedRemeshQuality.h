@@ -30,7 +30,8 @@ struct vtkEmbeddedRemeshQuality
   double LayerCells = 0.0;
   double NewPrisms = 0.0;          ///< Region 2 (new layer cells) by kind: prisms,
   double NewPyramids = 0.0;        ///< pyramids,
-  double NewLayerTetrahedra = 0.0; ///< closure tetrahedra
+  double NewLayerTetrahedra = 0.0; ///< closure tetrahedra,
+  double NewLayerHexahedra = 0.0;  ///< hexahedra (2-D mode: the extruded layer quads)
   double NonPositiveJacobian = 0.0; ///< 3-D cells with a corner Jacobian <= 0
 };
 
@@ -44,11 +45,21 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
 /// MeanDihedralAngleNew, MaxAspectRatioNew (Region 1), MaxAspectRatioLayerCells,
 /// MinDihedralAngleLayerCells,
 /// NonPositiveJacobianCells, and the new layer cells: LayerCells, Prisms,
-/// Pyramids, LayerClosureTetrahedra.
+/// Pyramids, LayerClosureTetrahedra, LayerHexahedra (2-D mode; 0 in 3-D).
+/// In 2-D mode the layer cells are hexahedra (the layer quads) and wedges
+/// (the tapered ends' triangles, counted as Prisms).
 void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmbeddedRemeshQuality& sums);
 
 /// Under MPI: the sums, minima and maxima over all ranks, on every rank.
 void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& sums);
+
+/// The prism-layer options from the filter's properties (NumberOfLayers = 0
+/// when LayerType is Tetrahedra), the same for the 3-D stack and the 2-D
+/// mode's band. `edge`: the surface (curve) edge length, for the automatic
+/// stack (FirstLayerThickness and TotalThickness 0: each side half an edge
+/// high). False with `problem` naming the bad property.
+bool vtkEmbeddedRemeshLayerOptions(
+  vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions& layers, std::string& problem);
 
 /// The prism stack's field data: LimitedColumns, LayerStackHeight and
 /// FirstLayerThicknessUsed (0 without layers), from the options used.

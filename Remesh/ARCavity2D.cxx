@@ -19,6 +19,7 @@
 #include <CGAL/Search_traits_adapter.h>
 #include <CGAL/Surface_sweep_2_algorithms.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/property_map.h>
 
 #include <boost/tuple/tuple.hpp>
@@ -209,6 +210,575 @@ double SmallestAngle(const Point2& a, const Point2& b, const Point2& c)
   }
   return smallest;
 }
+
+// ---- Layers (Cavity2DOptions::Layers): the band of quads around the curves.
+
+/// One curve as an ordered list of curve nodes; Closed: the last joins the first.
+struct Chain
+{
+  std::vector<std::int64_t> Nodes;
+  bool Closed = false;
+};
+
+/// The curves' segments as chains; false with `error` for a node in three or
+/// more segments (a branch) or a curve of one segment.
+bool CurveChains(std::size_t nCurve, const std::vector<std::int64_t>& segs, std::vector<Chain>& chains,
+  std::string& error)
+{
+  std::vector<std::vector<std::int64_t>> adjacent(nCurve);
+  std::set<std::pair<std::int64_t, std::int64_t>> directed;
+  for (std::size_t s = 0; s < segs.size(); s += 2)
+  {
+    adjacent[segs[s]].push_back(segs[s + 1]);
+    adjacent[segs[s + 1]].push_back(segs[s]);
+    directed.insert({ segs[s], segs[s + 1] });
+  }
+  for (std::size_t i = 0; i < nCurve; ++i)
+  {
+    if (adjacent[i].size() > 2)
+    {
+      error = "layers: the feature curve branches (a node in " + std::to_string(adjacent[i].size()) +
+        " segments); layers need curves without branches.";
+      return false;
+    }
+  }
+  std::vector<char> visited(nCurve, 0);
+  auto walk = [&](std::int64_t start, bool closed) {
+    Chain chain;
+    chain.Closed = closed;
+    std::int64_t previous = -1, at = start;
+    // Follow the segments' direction where it is consistent.
+    if (adjacent[start].size() == 2 && !directed.count({ start, adjacent[start][0] }) &&
+      directed.count({ start, adjacent[start][1] }))
+    {
+      previous = adjacent[start][0];
+    }
+    while (at >= 0 && !visited[at])
+    {
+      visited[at] = 1;
+      chain.Nodes.push_back(at);
+      std::int64_t next = -1;
+      for (const std::int64_t b : adjacent[at])
+      {
+        if (b != previous && !visited[b])
+        {
+          next = b;
+          break;
+        }
+      }
+      previous = at;
+      at = next;
+    }
+    chains.push_back(chain);
+  };
+  for (std::size_t i = 0; i < nCurve; ++i)
+  {
+    if (!visited[i] && adjacent[i].size() == 1)
+    {
+      // Start at the end a segment leaves from, when there is one.
+      const std::int64_t other = adjacent[i][0];
+      bool forward = directed.count({ static_cast<std::int64_t>(i), other }) > 0;
+      if (!forward)
+      {
+        // the other end of this chain may be the start
+        std::int64_t previous = static_cast<std::int64_t>(i), at = other;
+        while (adjacent[at].size() == 2)
+        {
+          const std::int64_t next = adjacent[at][0] == previous ? adjacent[at][1] : adjacent[at][0];
+          previous = at;
+          at = next;
+        }
+        if (directed.count({ at, previous }))
+        {
+          walk(at, false);
+          continue;
+        }
+      }
+      walk(static_cast<std::int64_t>(i), false);
+    }
+  }
+  for (std::size_t i = 0; i < nCurve; ++i)
+  {
+    if (!visited[i] && adjacent[i].size() == 2)
+    {
+      walk(static_cast<std::int64_t>(i), true);
+    }
+  }
+  for (const Chain& c : chains)
+  {
+    if (c.Nodes.size() < 3)
+    {
+      error = "layers: a feature curve of " + std::to_string(c.Nodes.size() - 1) +
+        " segment(s) after the trim cannot carry layers (they taper to nothing at its ends); use a "
+        "shorter SurfaceEdgeLength or no layers.";
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The band: ids 0 .. nCurve-1 are the curve nodes, nCurve + j layer point j.
+struct Band
+{
+  std::vector<double> Points;                    ///< layer points, x y
+  std::vector<std::int64_t> PointNode;           ///< per layer point: its curve node
+  std::vector<double> Normal;                    ///< per curve node: x y (+ side)
+  std::vector<double> Height;                    ///< per curve node: + side, then per curve node: - side
+  std::vector<std::vector<std::int64_t>> Cells;  ///< counter-clockwise, band ids
+  std::vector<int> CellLayer, CellSide;
+  std::vector<std::array<std::int64_t, 2>> Walls; ///< the outermost polylines' segments, band ids
+  std::size_t Quads = 0, Triangles = 0, Limited = 0;
+  int Rounds = 0;
+};
+
+double Cross(const double* o, const double* a, const double* b)
+{
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+/// Builds the band around the chains (ARCavity2D.h: Normals, Heights).
+/// `shell`: the cavity's boundary edges (x0 y0 x1 y1).
+bool BuildBand(const std::vector<double>& x, const std::vector<Chain>& chains,
+  const std::vector<std::array<double, 4>>& shell, const PrismLayerOptions& o, const std::vector<double>& z,
+  Band& band, std::string& error)
+{
+  const std::size_t nCurve = x.size() / 2;
+  const int N = o.NumberOfLayers;
+  const double Z = z.back();
+  constexpr double Visible = 0.3;          // as ARPrismLayers: the dot a normal keeps with its segments
+  constexpr double MinHeightFraction = 1e-3; // as ARPrismLayers
+  constexpr int MaxRounds = 60;
+  band = Band();
+  band.Normal.assign(2 * nCurve, 0.0);
+  band.Height.assign(2 * nCurve, 0.0);
+  std::vector<std::array<double, 4>> segNormals(nCurve);
+  std::vector<int> segCount(nCurve, 0);
+  auto visibility = [&](std::int64_t i, const double* n) {
+    double v = 1.0;
+    for (int k = 0; k < segCount[i]; ++k)
+    {
+      v = std::min(v, n[0] * segNormals[i][2 * k] + n[1] * segNormals[i][2 * k + 1]);
+    }
+    return v;
+  };
+  // ---- Normals.
+  for (const Chain& c : chains)
+  {
+    const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
+    for (std::size_t j = 0; j < nSeg; ++j)
+    {
+      const std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
+      const double dx = x[2 * b] - x[2 * a], dy = x[2 * b + 1] - x[2 * a + 1], l = std::hypot(dx, dy);
+      for (const std::int64_t i : { a, b })
+      {
+        segNormals[i][2 * segCount[i]] = -dy / l;
+        segNormals[i][2 * segCount[i] + 1] = dx / l;
+        ++segCount[i];
+      }
+    }
+    for (const std::int64_t i : c.Nodes)
+    {
+      double n[2] = { 0.0, 0.0 };
+      for (int k = 0; k < segCount[i]; ++k)
+      {
+        n[0] += segNormals[i][2 * k];
+        n[1] += segNormals[i][2 * k + 1];
+      }
+      const double l = std::hypot(n[0], n[1]);
+      if (!(l > 1e-9) || !(visibility(i, n) / l > 0.0))
+      {
+        std::ostringstream msg;
+        msg << "layers: the feature curve turns back on itself at (" << x[2 * i] << ", " << x[2 * i + 1]
+            << "): no direction there sees both of its segments.";
+        error = msg.str();
+        return false;
+      }
+      band.Normal[2 * i] = n[0] / l;
+      band.Normal[2 * i + 1] = n[1] / l;
+    }
+    for (int pass = 0; pass < o.NormalSmoothingIterations; ++pass)
+    {
+      const std::vector<double> old = band.Normal;
+      for (std::size_t j = 0; j < m; ++j)
+      {
+        if (!c.Closed && (j <= 1 || j + 2 >= m))
+        {
+          // An end is tapered to height 0 (its normal is not used); its
+          // neighbour keeps the mean of its segments' normals, exact on a
+          // circle, where a stencil through the end's would tilt it.
+          continue;
+        }
+        const std::int64_t i = c.Nodes[j], p = c.Nodes[(j + m - 1) % m], q = c.Nodes[(j + 1) % m];
+        double n[2] = { old[2 * p] + 2.0 * old[2 * i] + old[2 * q], old[2 * p + 1] + 2.0 * old[2 * i + 1] + old[2 * q + 1] };
+        const double l = std::hypot(n[0], n[1]);
+        if (!(l > 0.0))
+        {
+          continue;
+        }
+        n[0] /= l;
+        n[1] /= l;
+        if (visibility(i, n) >= std::min(Visible, visibility(i, &old[2 * i])))
+        {
+          band.Normal[2 * i] = n[0];
+          band.Normal[2 * i + 1] = n[1];
+        }
+      }
+    }
+  }
+  // The corner floor: min(0.05, half the layer-0 corner sine the normals set).
+  double floor = 0.05;
+  for (const Chain& c : chains)
+  {
+    for (const std::int64_t i : c.Nodes)
+    {
+      floor = std::min(floor, 0.5 * visibility(i, &band.Normal[2 * i]));
+    }
+  }
+  // ---- Heights: the full stack, 0 at open ends (and on the - side without BothSides).
+  for (const Chain& c : chains)
+  {
+    for (std::size_t j = 0; j < c.Nodes.size(); ++j)
+    {
+      const std::int64_t i = c.Nodes[j];
+      const bool end = !c.Closed && (j == 0 || j + 1 == c.Nodes.size());
+      band.Height[i] = end ? 0.0 : Z;
+      band.Height[nCurve + i] = end || !o.BothSides ? 0.0 : Z;
+    }
+  }
+  // Clearance along the normals: GapFraction of the free distance to the
+  // cavity's boundary and to the curves (segments at the node skipped).
+  {
+    std::vector<Segment3> segments;
+    std::vector<std::array<std::int64_t, 2>> ends; // curve segments' nodes; -1 for the shell
+    for (const auto& e : shell)
+    {
+      segments.emplace_back(Point3(e[0], e[1], 0.0), Point3(e[2], e[3], 0.0));
+      ends.push_back({ -1, -1 });
+    }
+    for (const Chain& c : chains)
+    {
+      const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
+      for (std::size_t j = 0; j < nSeg; ++j)
+      {
+        const std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
+        segments.emplace_back(Point3(x[2 * a], x[2 * a + 1], 0.0), Point3(x[2 * b], x[2 * b + 1], 0.0));
+        ends.push_back({ a, b });
+      }
+    }
+    BoundaryTree tree(segments.begin(), segments.end());
+    std::vector<BoundaryTree::Primitive_id> hits;
+    const double reach = Z / o.GapFraction;
+    for (std::size_t i = 0; i < nCurve; ++i)
+    {
+      for (int s = 0; s < 2; ++s)
+      {
+        double& h = band.Height[s * nCurve + i];
+        if (!(h > 0.0))
+        {
+          continue;
+        }
+        const double sign = s == 0 ? 1.0 : -1.0;
+        const double d[2] = { sign * band.Normal[2 * i], sign * band.Normal[2 * i + 1] };
+        const double* p = &x[2 * i];
+        hits.clear();
+        tree.all_intersected_primitives(
+          Segment3(Point3(p[0], p[1], 0.0), Point3(p[0] + reach * d[0], p[1] + reach * d[1], 0.0)),
+          std::back_inserter(hits));
+        double free = reach;
+        for (const auto& hit : hits)
+        {
+          const std::size_t k = static_cast<std::size_t>(hit - segments.begin());
+          if (ends[k][0] == static_cast<std::int64_t>(i) || ends[k][1] == static_cast<std::int64_t>(i))
+          {
+            continue;
+          }
+          // p + t d on the segment a + u (b - a): t by Cramer's rule.
+          const double ax = hit->source().x(), ay = hit->source().y();
+          const double ex = hit->target().x() - ax, ey = hit->target().y() - ay;
+          const double det = d[0] * (-ey) - d[1] * (-ex);
+          if (std::abs(det) < 1e-300)
+          {
+            free = std::min(free, std::hypot(ax - p[0], ay - p[1])); // along the ray
+            continue;
+          }
+          const double rx = ax - p[0], ry = ay - p[1];
+          const double t = (rx * (-ey) - ry * (-ex)) / det;
+          free = std::min(free, std::max(0.0, t));
+        }
+        h = std::min(h, o.GapFraction * free);
+      }
+    }
+  }
+  // And GapFraction of the distance to any other curve, in every direction:
+  // where two curves come close at a small angle, or one ends next to
+  // another, the rays along the normals can miss it, and the two bands'
+  // outlines would leave the refill only needles between them (0.001
+  // degrees, seen on a second cycle whose shock was fitted in two pieces).
+  if (chains.size() > 1)
+  {
+    std::vector<std::vector<Segment3>> pieces(chains.size());
+    for (std::size_t c = 0; c < chains.size(); ++c)
+    {
+      const std::vector<std::int64_t>& v = chains[c].Nodes;
+      const std::size_t m = v.size(), nSeg = chains[c].Closed ? m : m - 1;
+      for (std::size_t j = 0; j < nSeg; ++j)
+      {
+        const double* a = &x[2 * v[j]];
+        const double* b = &x[2 * v[(j + 1) % m]];
+        pieces[c].emplace_back(Point3(a[0], a[1], 0.0), Point3(b[0], b[1], 0.0));
+      }
+    }
+    std::vector<BoundaryTree> trees(chains.size());
+    for (std::size_t c = 0; c < chains.size(); ++c)
+    {
+      trees[c].insert(pieces[c].begin(), pieces[c].end());
+      trees[c].build();
+      trees[c].accelerate_distance_queries();
+    }
+    for (std::size_t c = 0; c < chains.size(); ++c)
+    {
+      for (const std::int64_t i : chains[c].Nodes)
+      {
+        const Point3 p(x[2 * i], x[2 * i + 1], 0.0);
+        for (std::size_t d = 0; d < chains.size(); ++d)
+        {
+          if (d == c)
+          {
+            continue;
+          }
+          const double gap = o.GapFraction * std::sqrt(CGAL::to_double(trees[d].squared_distance(p)));
+          band.Height[i] = std::min(band.Height[i], gap);
+          band.Height[nCurve + i] = std::min(band.Height[nCurve + i], gap);
+        }
+      }
+    }
+  }
+  // Grading along each chain (both directions until nothing changes; it only lowers).
+  auto grade = [&]() {
+    for (const Chain& c : chains)
+    {
+      const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
+      for (int s = 0; s < 2; ++s)
+      {
+        double* H = &band.Height[s * nCurve];
+        for (bool changed = true; changed;)
+        {
+          changed = false;
+          for (int dir = 0; dir < 2; ++dir)
+          {
+            for (std::size_t jj = 0; jj < nSeg; ++jj)
+            {
+              const std::size_t j = dir == 0 ? jj : nSeg - 1 - jj;
+              std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
+              if (dir == 1)
+              {
+                std::swap(a, b);
+              }
+              const double limit = H[a] + o.MaxHeightGradient * Distance(&x[2 * a], &x[2 * b]);
+              if (H[b] > limit)
+              {
+                H[b] = limit;
+                changed = true;
+              }
+            }
+          }
+        }
+      }
+    }
+  };
+  grade();
+  // ---- The cells and the check; failing columns shrink by 0.7.
+  std::vector<std::int64_t> firstPoint(2 * nCurve, -1);
+  auto id = [&](std::int64_t i, int s, int k) -> std::int64_t {
+    return k == 0 || firstPoint[s * nCurve + i] < 0 ? i : static_cast<std::int64_t>(nCurve) + firstPoint[s * nCurve + i] + k - 1;
+  };
+  auto position = [&](std::int64_t b) -> const double* {
+    return b < static_cast<std::int64_t>(nCurve) ? &x[2 * b] : &band.Points[2 * (b - nCurve)];
+  };
+  for (int round = 0;; ++round)
+  {
+    band.Points.clear();
+    band.PointNode.clear();
+    std::fill(firstPoint.begin(), firstPoint.end(), -1);
+    for (std::size_t i = 0; i < nCurve; ++i)
+    {
+      for (int s = 0; s < 2; ++s)
+      {
+        const double h = band.Height[s * nCurve + i];
+        if (!(h > 0.0) || segCount[i] == 0)
+        {
+          continue;
+        }
+        firstPoint[s * nCurve + i] = static_cast<std::int64_t>(band.PointNode.size());
+        const double sign = s == 0 ? 1.0 : -1.0;
+        for (int k = 1; k <= N; ++k)
+        {
+          const double t = sign * h * z[k] / Z;
+          band.Points.push_back(x[2 * i] + t * band.Normal[2 * i]);
+          band.Points.push_back(x[2 * i + 1] + t * band.Normal[2 * i + 1]);
+          band.PointNode.push_back(static_cast<std::int64_t>(i));
+        }
+      }
+    }
+    band.Cells.clear();
+    band.CellLayer.clear();
+    band.CellSide.clear();
+    band.Walls.clear();
+    band.Quads = band.Triangles = 0;
+    std::set<std::int64_t> failing; // columns s * nCurve + i
+    auto fail = [&](std::int64_t a, std::int64_t b, int s) {
+      for (const std::int64_t i : { a, b })
+      {
+        if (band.Height[s * nCurve + i] > 0.0)
+        {
+          failing.insert(s * static_cast<std::int64_t>(nCurve) + i);
+        }
+      }
+    };
+    std::vector<std::array<std::int64_t, 3>> wallColumns; // per wall: a, b, side
+    for (const Chain& c : chains)
+    {
+      const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
+      for (std::size_t j = 0; j < nSeg; ++j)
+      {
+        const std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
+        for (int s = 0; s < 2; ++s)
+        {
+          band.Walls.push_back({ id(a, s, N), id(b, s, N) });
+          wallColumns.push_back({ a, b, s });
+          if (!(band.Height[s * nCurve + a] > 0.0) && !(band.Height[s * nCurve + b] > 0.0))
+          {
+            continue;
+          }
+          for (int k = 0; k < N; ++k)
+          {
+            std::vector<std::int64_t> ring = s == 0
+              ? std::vector<std::int64_t>{ id(a, 0, k), id(b, 0, k), id(b, 0, k + 1), id(a, 0, k + 1) }
+              : std::vector<std::int64_t>{ id(a, 1, k), id(a, 1, k + 1), id(b, 1, k + 1), id(b, 1, k) };
+            std::vector<std::int64_t> cell;
+            for (std::size_t r = 0; r < ring.size(); ++r)
+            {
+              if (ring[r] != ring[(r + 1) % ring.size()])
+              {
+                cell.push_back(ring[r]);
+              }
+            }
+            const std::size_t n = cell.size();
+            bool ok = n >= 3;
+            for (std::size_t r = 0; ok && r < n; ++r)
+            {
+              const double* p = position(cell[r]);
+              const double* q = position(cell[(r + 1) % n]);
+              const double* w = position(cell[(r + n - 1) % n]);
+              const double scale = Distance(p, q) * Distance(p, w);
+              const double sine = Cross(p, q, w) / scale;
+              ok = n == 4 ? sine >= floor : (sine > 0.0 && scale > 0.0);
+            }
+            if (!ok)
+            {
+              fail(a, b, s);
+            }
+            band.Cells.push_back(cell);
+            band.CellLayer.push_back(k);
+            band.CellSide.push_back(s == 0 ? 1 : -1);
+            ++(n == 4 ? band.Quads : band.Triangles);
+          }
+        }
+      }
+    }
+    // The outermost polylines cross neither each other nor the cavity's boundary.
+    {
+      using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::size_t>;
+      std::vector<Box> boxes;
+      std::vector<std::array<double, 4>> all;
+      for (const auto& w : band.Walls)
+      {
+        const double* p = position(w[0]);
+        const double* q = position(w[1]);
+        all.push_back({ p[0], p[1], q[0], q[1] });
+      }
+      all.insert(all.end(), shell.begin(), shell.end());
+      for (std::size_t k = 0; k < all.size(); ++k)
+      {
+        const auto& e = all[k];
+        boxes.emplace_back(CGAL::Bbox_2(std::min(e[0], e[2]), std::min(e[1], e[3]), std::max(e[0], e[2]),
+                             std::max(e[1], e[3])),
+          k);
+      }
+      const std::size_t nWalls = band.Walls.size();
+      CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& u, const Box& v) {
+        std::size_t i = u.info(), j = v.info();
+        if (i >= nWalls && j >= nWalls)
+        {
+          return; // two edges of the kept mesh
+        }
+        if (i > j)
+        {
+          std::swap(i, j);
+        }
+        if (j < nWalls)
+        {
+          const auto& a = band.Walls[i];
+          const auto& b = band.Walls[j];
+          if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1])
+          {
+            return; // neighbours along a polyline, or the two sides meeting at an end
+          }
+        }
+        const K::Segment_2 si(Point2(all[i][0], all[i][1]), Point2(all[i][2], all[i][3]));
+        const K::Segment_2 sj(Point2(all[j][0], all[j][1]), Point2(all[j][2], all[j][3]));
+        if (CGAL::do_intersect(si, sj))
+        {
+          for (const std::size_t k : { i, j })
+          {
+            if (k < nWalls)
+            {
+              fail(wallColumns[k][0], wallColumns[k][1], static_cast<int>(wallColumns[k][2]));
+            }
+          }
+        }
+      });
+    }
+    if (failing.empty())
+    {
+      break;
+    }
+    if (round >= MaxRounds)
+    {
+      error = "layers: the layer cells could not be made valid in " + std::to_string(MaxRounds) + " rounds.";
+      return false;
+    }
+    ++band.Rounds;
+    for (const std::int64_t col : failing)
+    {
+      band.Height[col] *= 0.7;
+      if (band.Height[col] < MinHeightFraction * Z)
+      {
+        const std::int64_t i = col % static_cast<std::int64_t>(nCurve);
+        std::ostringstream msg;
+        msg << "layers: the stack at (" << x[2 * i] << ", " << x[2 * i + 1] << ") on its "
+            << (col < static_cast<std::int64_t>(nCurve) ? "+" : "-")
+            << " side would have to shrink below 1e-3 of its height " << Z
+            << " to stay valid (a fold, or the cavity's boundary or another curve in the way); lower the "
+               "layers' thickness or raise RemovalFactor.";
+        error = msg.str();
+        return false;
+      }
+    }
+    grade();
+  }
+  for (const Chain& c : chains)
+  {
+    for (const std::int64_t i : c.Nodes)
+    {
+      for (int s = 0; s < 2; ++s)
+      {
+        band.Limited += band.Height[s * nCurve + i] < Z * (1.0 - 1e-12) && (s == 0 || o.BothSides) ? 1 : 0;
+      }
+    }
+  }
+  return true;
+}
 }
 
 bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t nCurvePoints,
@@ -247,6 +817,19 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       error = "a segment of the feature curve refers to a point that does not exist.";
       return false;
     }
+  }
+  // ---- Layer options (checked before any work).
+  const bool layers = options.Layers.NumberOfLayers != 0;
+  double stackHeight = 0.0; // z_N: added to the removal radius
+  if (layers)
+  {
+    std::string why;
+    if (!PrismLayerDistances(options.Layers, out.LayerDistances, why))
+    {
+      error = "layers: " + why;
+      return false;
+    }
+    stackHeight = out.LayerDistances.back();
   }
   const double* X = V.Points.data();
   for (std::size_t c = 0; c < nC; ++c)
@@ -409,7 +992,8 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     return false;
   }
 
-  // ---- Removal: V_j within RemovalFactor * max(l_ci, l_vj) of a visible C_i.
+  // ---- Removal: V_j within RemovalFactor * max(l_ci, l_vj) of a visible C_i
+  // (plus the stack height with layers, as in 3-D).
   std::vector<IndexedPoint> indexed;
   double lcMax = 0.0;
   for (std::size_t i = 0; i < nCurve; ++i)
@@ -436,14 +1020,14 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     const double* xj = &X[2 * j];
     found.clear();
     kd.search(std::back_inserter(found),
-      Circle(IndexedPoint(Point2(xj[0], xj[1]), 0), rf * std::max(lcMax, lv[j]), 0.0));
+      Circle(IndexedPoint(Point2(xj[0], xj[1]), 0), rf * std::max(lcMax, lv[j]) + stackHeight, 0.0));
     std::sort(found.begin(), found.end(),
       [](const IndexedPoint& a, const IndexedPoint& b) { return boost::get<1>(a) < boost::get<1>(b); });
     for (const IndexedPoint& q : found)
     {
       const std::size_t i = boost::get<1>(q);
       const double* xi = &cPoints[2 * i];
-      if (Distance(xi, xj) >= rf * std::max(cSize[i], lv[j]))
+      if (Distance(xi, xj) >= rf * std::max(cSize[i], lv[j]) + stackHeight)
       {
         continue;
       }
@@ -528,50 +1112,123 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     }
   }
 
+  // ---- Layers: the band around the curves, built against the cavity's boundary.
+  Band band;
+  if (layers)
+  {
+    std::vector<Chain> chains;
+    if (!CurveChains(nCurve, cSegs, chains, error))
+    {
+      return false;
+    }
+    std::vector<std::array<double, 4>> shellSegments;
+    for (const auto& e : shell)
+    {
+      const double* a = &X[2 * plcNode[e.first]];
+      const double* b = &X[2 * plcNode[e.second]];
+      shellSegments.push_back({ a[0], a[1], b[0], b[1] });
+    }
+    if (!BuildBand(cPoints, chains, shellSegments, options.Layers, out.LayerDistances, band, error))
+    {
+      return false;
+    }
+  }
+  // The constrained nodes after the cavity's boundary ("extra"), as band
+  // ids (curve nodes 0 .. nCurve-1, then layer points): the curve nodes, or
+  // with layers the outermost polylines' nodes; and the constraints that
+  // bound the refill ("walls": the cavity's boundary, the band's outline).
+  std::vector<std::int64_t> extra;
+  std::vector<std::pair<std::int64_t, std::int64_t>> inner, walls; // band ids
+  if (layers)
+  {
+    std::set<std::int64_t> nodes;
+    for (const auto& w : band.Walls)
+    {
+      nodes.insert(w[0]);
+      nodes.insert(w[1]);
+      walls.emplace_back(w[0], w[1]);
+    }
+    extra.assign(nodes.begin(), nodes.end());
+  }
+  else
+  {
+    for (std::size_t i = 0; i < nCurve; ++i)
+    {
+      extra.push_back(static_cast<std::int64_t>(i));
+    }
+    for (std::size_t s = 0; s < cSegs.size(); s += 2)
+    {
+      inner.emplace_back(cSegs[s], cSegs[s + 1]);
+    }
+  }
+  const auto nBand = static_cast<std::int64_t>(nCurve + band.PointNode.size());
+  std::vector<std::int64_t> extraOf(nBand, -1); // band id -> CDT id
+  for (std::size_t k = 0; k < extra.size(); ++k)
+  {
+    extraOf[extra[k]] = nShellNodes + static_cast<std::int64_t>(k);
+  }
+  auto bandPoint = [&](std::int64_t b) -> const double* {
+    return b < static_cast<std::int64_t>(nCurve) ? &cPoints[2 * b] : &band.Points[2 * (b - nCurve)];
+  };
+  auto bandNode = [&](std::int64_t b) {
+    return b < static_cast<std::int64_t>(nCurve) ? b : band.PointNode[b - nCurve];
+  };
+  const auto nConstrained = nShellNodes + static_cast<std::int64_t>(extra.size());
+
   // ---- The constrained triangulation and the size field's background.
   CDT cdt;
   Background background;
-  std::vector<CDT::Vertex_handle> handle(nShellNodes + nCurve);
-  for (std::int64_t k = 0; k < nShellNodes + static_cast<std::int64_t>(nCurve); ++k)
+  std::vector<CDT::Vertex_handle> handle(nConstrained);
+  for (std::int64_t k = 0; k < nConstrained; ++k)
   {
     const bool shellNode = k < nShellNodes;
-    const double* x = shellNode ? &X[2 * plcNode[k]] : &cPoints[2 * (k - nShellNodes)];
+    const double* x = shellNode ? &X[2 * plcNode[k]] : bandPoint(extra[k - nShellNodes]);
     const Point2 p(x[0], x[1]);
     handle[k] = cdt.insert(p);
     if (handle[k]->info().Id >= 0)
     {
-      error = "two nodes of the refill coincide (a curve node on a kept node, or a repeated curve node).";
+      error = layers ? "two nodes of the refill coincide (a layer point on a kept node or on another layer point)."
+                     : "two nodes of the refill coincide (a curve node on a kept node, or a repeated curve node).";
       return false;
     }
     handle[k]->info().Id = k;
     const std::int64_t v = shellNode ? plcNode[k] : -1;
-    const double size = shellNode ? sum[v] / std::max(1, count[v]) : cSize[k - nShellNodes];
+    const double size = shellNode ? sum[v] / std::max(1, count[v]) : cSize[bandNode(extra[k - nShellNodes])];
     background.insert(p)->info() = size;
   }
   for (const auto& e : shell)
   {
     cdt.insert_constraint(handle[e.first], handle[e.second]);
   }
-  for (std::size_t s = 0; s < cSegs.size(); s += 2)
+  for (const auto& e : inner)
   {
-    cdt.insert_constraint(handle[nShellNodes + cSegs[s]], handle[nShellNodes + cSegs[s + 1]]);
+    cdt.insert_constraint(handle[extraOf[e.first]], handle[extraOf[e.second]]);
   }
-  if (static_cast<std::int64_t>(cdt.number_of_vertices()) != nShellNodes + static_cast<std::int64_t>(nCurve))
+  for (const auto& e : walls)
   {
-    error = "the feature curve touches the boundary of the cavity; raise RemovalFactor.";
+    cdt.insert_constraint(handle[extraOf[e.first]], handle[extraOf[e.second]]);
+  }
+  if (static_cast<std::int64_t>(cdt.number_of_vertices()) != nConstrained)
+  {
+    error = layers ? "the layers touch the boundary of the cavity; raise RemovalFactor."
+                   : "the feature curve touches the boundary of the cavity; raise RemovalFactor.";
     return false;
   }
-  // Faces inside the cavity: parity of the cavity-boundary edges crossed
-  // from the infinite face (a curve edge is crossed freely).
-  std::set<std::pair<std::int64_t, std::int64_t>> shellKeys;
+  // Faces inside the cavity: parity of the walls crossed from the infinite
+  // face (a curve edge is crossed freely; the band is outside).
+  std::set<std::pair<std::int64_t, std::int64_t>> wallKeys;
   for (const auto& e : shell)
   {
-    shellKeys.insert({ std::min(e.first, e.second), std::max(e.first, e.second) });
+    wallKeys.insert({ std::min(e.first, e.second), std::max(e.first, e.second) });
   }
-  auto onShell = [&](CDT::Face_handle f, int i) {
+  for (const auto& e : walls)
+  {
+    const std::int64_t a = extraOf[e.first], b = extraOf[e.second];
+    wallKeys.insert({ std::min(a, b), std::max(a, b) });
+  }
+  auto onWall = [&](CDT::Face_handle f, int i) {
     const std::int64_t a = f->vertex(CDT::cw(i))->info().Id, b = f->vertex(CDT::ccw(i))->info().Id;
-    return a >= 0 && b >= 0 && a < nShellNodes && b < nShellNodes &&
-      shellKeys.count({ std::min(a, b), std::max(a, b) }) > 0;
+    return a >= 0 && b >= 0 && wallKeys.count({ std::min(a, b), std::max(a, b) }) > 0;
   };
   {
     for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
@@ -593,21 +1250,33 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
         const CDT::Face_handle g = f->neighbor(i);
         if (depth.count(g) == 0)
         {
-          depth[g] = d + (onShell(f, i) ? 1 : 0);
+          depth[g] = d + (onWall(f, i) ? 1 : 0);
           front.push(g);
         }
       }
     }
   }
-  // Every curve segment must lie between two faces of the cavity.
-  for (std::size_t s = 0; s < cSegs.size(); s += 2)
+  // Every curve segment must lie between two faces of the cavity; with
+  // layers every edge of the band's outline between the band and the cavity.
+  for (const auto& e : inner)
   {
     CDT::Face_handle f;
     int i;
-    if (!cdt.is_edge(handle[nShellNodes + cSegs[s]], handle[nShellNodes + cSegs[s + 1]], f, i) ||
-      !f->is_in_domain() || !f->neighbor(i)->is_in_domain())
+    if (!cdt.is_edge(handle[extraOf[e.first]], handle[extraOf[e.second]], f, i) || !f->is_in_domain() ||
+      !f->neighbor(i)->is_in_domain())
     {
       error = "the feature curve leaves the cavity (it passes over kept cells); raise RemovalFactor.";
+      return false;
+    }
+  }
+  for (const auto& e : walls)
+  {
+    CDT::Face_handle f;
+    int i;
+    if (!cdt.is_edge(handle[extraOf[e.first]], handle[extraOf[e.second]], f, i) ||
+      f->is_in_domain() == f->neighbor(i)->is_in_domain())
+    {
+      error = "the layers leave the cavity (they pass over kept cells); raise RemovalFactor.";
       return false;
     }
   }
@@ -635,7 +1304,8 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     }
   }
 
-  // ---- Output: kept points (input order), then the curve's and the refinement's.
+  // ---- Output: kept points (input order), then the curve's, the layers'
+  // and the refinement's.
   std::vector<std::int64_t> outIndex(nV, -1);
   for (std::size_t c = 0; c < nC; ++c)
   {
@@ -661,12 +1331,11 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       ++out.RemovedNodes;
     }
   }
-  std::vector<std::int64_t> curveOut(nCurve);
-  for (std::size_t i = 0; i < nCurve; ++i)
+  const auto firstBand = static_cast<std::int64_t>(out.SourcePoint.size()); // band id b is output id firstBand + b
+  for (std::int64_t b = 0; b < nBand; ++b)
   {
-    curveOut[i] = static_cast<std::int64_t>(out.SourcePoint.size());
     out.SourcePoint.push_back(-1);
-    out.Mesh.Points.insert(out.Mesh.Points.end(), &cPoints[2 * i], &cPoints[2 * i] + 2);
+    out.Mesh.Points.insert(out.Mesh.Points.end(), bandPoint(b), bandPoint(b) + 2);
   }
   // The refinement's points in canonical order (by coordinates).
   std::vector<CDT::Vertex_handle> steiner;
@@ -680,26 +1349,25 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
   std::sort(steiner.begin(), steiner.end(), [](CDT::Vertex_handle a, CDT::Vertex_handle b) {
     return a->point() < b->point();
   });
-  for (const CDT::Vertex_handle& v : steiner)
+  const std::int64_t firstSteiner = static_cast<std::int64_t>(out.SourcePoint.size());
+  for (std::size_t k = 0; k < steiner.size(); ++k)
   {
-    v->info().Id = nShellNodes + static_cast<std::int64_t>(nCurve) +
-      static_cast<std::int64_t>(out.SourcePoint.size()); // unique, beyond the constrained nodes
+    steiner[k]->info().Id = nConstrained + static_cast<std::int64_t>(k); // beyond the constrained nodes
     out.SourcePoint.push_back(-1);
-    out.Mesh.Points.push_back(v->point().x());
-    out.Mesh.Points.push_back(v->point().y());
+    out.Mesh.Points.push_back(steiner[k]->point().x());
+    out.Mesh.Points.push_back(steiner[k]->point().y());
   }
-  const std::int64_t steinerBase = nShellNodes + static_cast<std::int64_t>(nCurve);
   auto outputId = [&](CDT::Vertex_handle v) -> std::int64_t {
     const std::int64_t id = v->info().Id;
     if (id < nShellNodes)
     {
       return outIndex[plcNode[id]];
     }
-    if (id < steinerBase)
+    if (id < nConstrained)
     {
-      return curveOut[id - nShellNodes];
+      return firstBand + extra[id - nShellNodes];
     }
-    return id - steinerBase;
+    return firstSteiner + id - nConstrained;
   };
   out.Mesh.Offsets.assign(1, 0);
   for (std::size_t c = 0; c < nC; ++c)
@@ -714,6 +1382,30 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     }
     out.Mesh.Offsets.push_back(static_cast<std::int64_t>(out.Mesh.Connectivity.size()));
     out.SourceCell.push_back(static_cast<std::int64_t>(c));
+  }
+  if (layers)
+  {
+    out.CellLayer.assign(out.SourceCell.size(), -1);
+    out.CellSide.assign(out.SourceCell.size(), 0);
+    for (std::size_t c = 0; c < band.Cells.size(); ++c)
+    {
+      for (const std::int64_t b : band.Cells[c])
+      {
+        out.Mesh.Connectivity.push_back(firstBand + b);
+      }
+      out.Mesh.Offsets.push_back(static_cast<std::int64_t>(out.Mesh.Connectivity.size()));
+      out.SourceCell.push_back(-1);
+      out.CellLayer.push_back(band.CellLayer[c]);
+      out.CellSide.push_back(band.CellSide[c]);
+    }
+    out.FirstCurvePoint = static_cast<std::size_t>(firstBand);
+    out.NumberOfCurvePoints = nCurve;
+    out.Normals = band.Normal;
+    out.Heights = band.Height;
+    out.LayerQuads = band.Quads;
+    out.LayerTriangles = band.Triangles;
+    out.LimitedColumns = band.Limited;
+    out.ShrinkRounds = band.Rounds;
   }
   // New triangles in canonical order (by their smallest output id, rotated).
   std::vector<std::array<std::int64_t, 3>> triangles;
@@ -736,10 +1428,15 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
   {
     out.Mesh.AddCell({ t[0], t[1], t[2] });
     out.SourceCell.push_back(-1);
+    if (layers)
+    {
+      out.CellLayer.push_back(-1);
+      out.CellSide.push_back(0);
+    }
   }
   for (std::size_t s = 0; s < cSegs.size(); ++s)
   {
-    out.Curve.push_back(curveOut[cSegs[s]]);
+    out.Curve.push_back(firstBand + cSegs[s]);
   }
   return true;
 }

@@ -32,9 +32,45 @@
  * would encroach a constrained edge is left as it is, so the angle bound is
  * what the refinement aims at; the smallest angle reached is reported.
  * Deterministic: the same input gives the same output.
+ *
+ * Anisotropic layers (Layers.NumberOfLayers > 0; the 2-D analogue of
+ * ar::BuildPrismLayers, paper sections 4.1, 4.2 and Fig. 11): the curves'
+ * nodes are offset on both sides along smoothed node normals by the layer
+ * distances z_1 .. z_N of ar::PrismLayerDistances (FirstLayerThickness *
+ * GrowthRatio^k, or TotalThickness split in that ratio: the same rule as in
+ * 3-D), and consecutive offset polylines bound quadrilaterals, N per curve
+ * segment and side. The + side is the left of the segment's direction (the
+ * normal (-dy, dx)). Normals: the mean of the two segments' unit normals at
+ * a node, then NormalSmoothingIterations Jacobi passes (a pass at a node is
+ * refused where it would see either segment at a dot below 0.3). Heights
+ * (per node and side, the whole column scaled, so the growth ratio stays):
+ *  - an open curve's end nodes get height 0: the stack tapers to nothing
+ *    there and the end segment's layer cells are triangles (the quads with
+ *    their two corners at the end node merged);
+ *  - along the normal, at most GapFraction of the free distance to the
+ *    cavity's boundary and to the curves (the other side, other curves),
+ *    and at most GapFraction of the distance to any other curve (in any
+ *    direction: rays miss a curve that ends beside this one);
+ *  - graded along the curve, |H_u - H_v| <= MaxHeightGradient |x_u - x_v|;
+ *  - then every layer cell is checked (each quad corner's sine at least
+ *    min(0.05, half its value at layer 0, set by the normals), each end
+ *    triangle positive) and the outermost polylines must cross neither each
+ *    other nor the cavity's boundary (CGAL's box intersection, exact
+ *    predicates); the columns of failing cells shrink by 0.7 and the check
+ *    repeats. A column that would have to go below 1e-3 of the stack makes
+ *    the call fail.
+ * The outermost polylines (closed around an open curve through its end
+ * nodes; two loops around a closed one) are the constraints of the CDT in
+ * place of the curves, the band between them is no part of the refill, and
+ * the refill's size field takes the curve's edge length at their nodes. The
+ * removal radius grows by the stack height z_N, as in 3-D. With BothSides
+ * off the - side has height 0 (the curve itself bounds the band). Curves
+ * with branches (a node in three segments) or of one segment are refused.
  */
 #ifndef ARCavity2D_h
 #define ARCavity2D_h
+
+#include "ARPrismLayers.h"
 
 #include <cstdint>
 #include <initializer_list>
@@ -73,18 +109,36 @@ struct Cavity2DOptions
   /// Remove every node: the whole cross-section is remeshed with the curves
   /// embedded (FullDomain); the domain boundary is still kept exactly.
   bool FullDomain = false;
+  /// Layers of quads on both sides of the curves (NumberOfLayers 0: off);
+  /// the fields mean what they mean for ar::BuildPrismLayers.
+  PrismLayerOptions Layers;
 };
 
 struct Cavity2DRemesh
 {
-  Mesh2D Mesh;                           ///< kept points (input order) then new ones; kept cells (input order) then new triangles
+  /// Points: kept (input order), the curves' nodes, the layer points, the
+  /// refinement's. Cells: kept (input order), the layer cells (quads, and
+  /// triangles at a curve's tapered ends), then the new triangles.
+  Mesh2D Mesh;
   std::vector<std::int64_t> SourcePoint; ///< per output point: input point id, or -1 (new)
   std::vector<std::int64_t> SourceCell;  ///< per output cell: input cell id (kept), or -1 (new)
   std::vector<std::int64_t> Curve;       ///< the embedded curve segments, pairs of output point ids
   std::size_t RemovedNodes = 0;          ///< nodes of V removed
   std::size_t RemovedCells = 0;          ///< cells of V in the cavity
   std::size_t CurveSegmentsUsed = 0;     ///< curve segments left after the trim
-  double MinAngleNew = 0.0;              ///< smallest angle of the new triangles, degrees
+  double MinAngleNew = 0.0;              ///< smallest angle of the new (refill) triangles, degrees
+  // ---- Layers (options.Layers on); empty or 0 otherwise.
+  std::vector<int> CellLayer;            ///< per output cell: layer k (0 next to the curve) of a layer cell, else -1
+  std::vector<int> CellSide;             ///< per output cell: +1 / -1 for layer cells, else 0
+  std::size_t FirstCurvePoint = 0;       ///< output id of the first curve node (they are consecutive)
+  std::size_t NumberOfCurvePoints = 0;
+  std::vector<double> Normals;           ///< per curve node: the + side's unit column direction (x y)
+  std::vector<double> Heights;           ///< per curve node: stack height on the + side, then (all nodes) on the - side
+  std::vector<double> LayerDistances;    ///< the requested z_0 = 0 .. z_N
+  std::size_t LayerQuads = 0;            ///< layer cells that are quads
+  std::size_t LayerTriangles = 0;        ///< layer cells that are triangles (tapered ends)
+  std::size_t LimitedColumns = 0;        ///< columns (node, side) lower than z_N, the tapered ends included
+  int ShrinkRounds = 0;                  ///< rounds of the cell/crossing check that shrank columns
 };
 
 /**
@@ -98,7 +152,10 @@ struct Cavity2DRemesh
  * V, non-finite coordinates, curves entirely outside V (or nothing left after
  * the trim), curves crossing themselves or each other, a curve crossing the
  * cavity's boundary (raise RemovalFactor), nothing to remove, or a
- * refinement that does not finish.
+ * refinement that does not finish; with layers also bad layer options (as
+ * ar::PrismLayerDistances names them), a branching or one-segment curve, a
+ * curve turning too sharply for its normals, or a column that cannot be
+ * made valid.
  */
 bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t nCurvePoints,
   const std::int64_t* curveSegments, std::size_t nCurveSegments, const Cavity2DOptions& options,

@@ -15,8 +15,8 @@ ran on both, and what does it cost?
             factor 1 is the original mesh and the source of the adaptation
 --cycles    adapt-solve cycles (default 2): Plugin/Scripts/adapt_case.py
             --solve on the original solution
---layers    also the adapted mesh with prism layers (LayerType Prisms; 3-D
-            only: the 2-D mode has no quadrilateral layers yet)
+--layers    also the adapted mesh with layers (LayerType Prisms: prism
+            layers in 3-D, layers of hexahedra along the shock in 2-D)
 --adapted-end  endTime of the adapted cases' solves (default half the case's:
             they start from the interpolated solution)
 
@@ -177,8 +177,8 @@ def main():
         rows.append(("uniform x%g" % f, measure(case, c)))
     end = a.adapted_end or 0.5 * c["end"]
     variants = [("tetrahedra" if c["kind"] == "cone" else "triangles", "adapted", {})]
-    if a.layers and c["kind"] == "cone":
-        variants.append(("prism layers", "layers", {"LayerType": "Prisms"}))
+    if a.layers:
+        variants.append(("layers", "layers", {"LayerType": "Prisms"}))
     for label, name, props in variants:
         target = os.path.join(work, name)
         last = os.path.join(target, "cycle%d" % a.cycles)

@@ -439,3 +439,319 @@ TEST(Cavity2D, RefusedInput)
   nan.Points[3] = std::nan("");
   refuses(grid, nan, "non-finite");
 }
+
+// ---- Layers (Cavity2DOptions::Layers): quads on both sides of the curve.
+namespace
+{
+/// The smallest corner cross product of cell c over the product of its two
+/// edges' lengths (the sine of its smallest corner; > 0: convex, positive).
+double MinCornerSine(const ar::Mesh2D& m, std::size_t c)
+{
+  const std::int64_t n = m.Offsets[c + 1] - m.Offsets[c];
+  const std::int64_t* v = &m.Connectivity[m.Offsets[c]];
+  double worst = 1.0;
+  for (std::int64_t k = 0; k < n; ++k)
+  {
+    const double* a = &m.Points[2 * v[k]];
+    const double* b = &m.Points[2 * v[(k + 1) % n]];
+    const double* p = &m.Points[2 * v[(k + n - 1) % n]];
+    const double cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+    worst = std::min(worst, cross / (std::hypot(b[0] - a[0], b[1] - a[1]) * std::hypot(p[0] - a[0], p[1] - a[1])));
+  }
+  return worst;
+}
+
+/// What every layered remesh must satisfy: conforming, the boundary edge for
+/// edge the input's, every cell positive (quads convex), the area
+/// conserved, every curve segment an edge between a + and a - layer-0 cell
+/// (both sides on), the refill's triangles at least `minAngle`, the kept
+/// cells the input's. Returns the number of layer cells.
+std::size_t CheckLayered(const ar::Mesh2D& grid, const ar::Cavity2DRemesh& r, double area, double minAngle)
+{
+  const auto before = Edges(grid), after = Edges(r.Mesh);
+  std::set<EdgeKey> b0, b1;
+  for (const auto& e : before)
+    if (e.second == 1)
+      b0.insert(e.first);
+  for (const auto& e : after)
+  {
+    EXPECT_LE(e.second, 2);
+    if (e.second == 1)
+      b1.insert(e.first);
+  }
+  EXPECT_EQ(b0, b1) << "the boundary is the input's";
+  EXPECT_EQ(r.CellLayer.size(), r.Mesh.NumberOfCells());
+  EXPECT_EQ(r.CellSide.size(), r.Mesh.NumberOfCells());
+  double total = 0.0, worstAngle = 180.0;
+  std::size_t layerCells = 0;
+  for (std::size_t c = 0; c < r.Mesh.NumberOfCells(); ++c)
+  {
+    total += Area(r.Mesh, c);
+    EXPECT_GT(MinCornerSine(r.Mesh, c), 0.0) << "cell " << c << " is not convex and positive";
+    if (r.CellLayer[c] >= 0)
+    {
+      ++layerCells;
+      EXPECT_TRUE(r.CellSide[c] == 1 || r.CellSide[c] == -1);
+      EXPECT_LT(r.SourceCell[c], 0);
+    }
+    else if (r.SourceCell[c] < 0)
+    {
+      EXPECT_EQ(r.Mesh.Offsets[c + 1] - r.Mesh.Offsets[c], 3);
+      worstAngle = std::min(worstAngle, MinAngle(r.Mesh, c));
+    }
+  }
+  EXPECT_NEAR(total, area, 1e-12);
+  EXPECT_GE(worstAngle, minAngle);
+  EXPECT_NEAR(worstAngle, r.MinAngleNew, 1e-9);
+  EXPECT_EQ(layerCells, r.LayerQuads + r.LayerTriangles);
+  // Each curve segment: between a + and a - layer-0 cell.
+  std::map<EdgeKey, std::vector<int>> sides;
+  for (std::size_t c = 0; c < r.Mesh.NumberOfCells(); ++c)
+  {
+    if (r.CellLayer[c] != 0)
+      continue;
+    const std::int64_t n = r.Mesh.Offsets[c + 1] - r.Mesh.Offsets[c];
+    for (std::int64_t k = 0; k < n; ++k)
+      sides[Edge(r.Mesh, r.Mesh.Connectivity[r.Mesh.Offsets[c] + k],
+              r.Mesh.Connectivity[r.Mesh.Offsets[c] + (k + 1) % n])]
+        .push_back(r.CellSide[c]);
+  }
+  for (std::size_t s = 0; s < r.Curve.size(); s += 2)
+  {
+    auto it = sides.find(Edge(r.Mesh, r.Curve[s], r.Curve[s + 1]));
+    EXPECT_TRUE(it != sides.end() && it->second.size() == 2 && it->second[0] + it->second[1] == 0)
+      << "curve segment " << s / 2;
+  }
+  return layerCells;
+}
+}
+
+// A straight line, N = 4 layers of ratio 1.2, 0.02 per side: the band's
+// cells are 2 N per segment and side, quads except at the two tapered end
+// segments (triangles), every column straight up and down with the layer
+// boundaries exactly at the requested distances z_k.
+TEST(Cavity2D, LayersOnAStraightLine)
+{
+  const ar::Mesh2D grid = QuadGrid(20, 20, 0.05);
+  const double y0 = 0.51;
+  const Curve line = Line({ 0.1, y0 }, { 0.9, y0 }, 16);
+  ar::Cavity2DOptions o;
+  o.Layers.NumberOfLayers = 4;
+  o.Layers.GrowthRatio = 1.2;
+  o.Layers.TotalThickness = 0.02;
+  ar::Cavity2DRemesh r;
+  std::string error;
+  ASSERT_TRUE(Remesh(grid, line, o, r, error)) << error;
+  std::vector<double> z;
+  ASSERT_TRUE(ar::PrismLayerDistances(o.Layers, z, error));
+  ASSERT_EQ(r.LayerDistances, z);
+  EXPECT_NEAR(z.back(), 0.02, 1e-15);
+  EXPECT_NEAR(z[2] - z[1], 1.2 * z[1], 1e-15);
+  ASSERT_EQ(r.CurveSegmentsUsed, 16u);
+  const std::size_t segs = 16, N = 4;
+  EXPECT_EQ(r.LayerQuads, 2 * N * (segs - 2));
+  EXPECT_EQ(r.LayerTriangles, 2 * N * 2);
+  EXPECT_EQ(CheckLayered(grid, r, 1.0, 20.0), 2 * N * segs);
+  EXPECT_EQ(r.ShrinkRounds, 0);
+  EXPECT_EQ(r.LimitedColumns, 4u); // the two ends, both sides
+  // Heights: the full stack except at the ends; normals straight up.
+  ASSERT_EQ(r.NumberOfCurvePoints, 17u);
+  for (std::size_t i = 0; i < r.NumberOfCurvePoints; ++i)
+  {
+    const double x = r.Mesh.Points[2 * (r.FirstCurvePoint + i)];
+    const bool end = std::abs(x - 0.1) < 1e-12 || std::abs(x - 0.9) < 1e-12;
+    for (int s = 0; s < 2; ++s)
+      EXPECT_NEAR(r.Heights[s * r.NumberOfCurvePoints + i], end ? 0.0 : 0.02, 1e-9);
+    if (!end)
+    {
+      EXPECT_NEAR(r.Normals[2 * i], 0.0, 1e-12);
+      EXPECT_NEAR(std::abs(r.Normals[2 * i + 1]), 1.0, 1e-12);
+    }
+  }
+  // Every layer quad: an axis-aligned rectangle of layer k between y0 +- z_k
+  // and y0 +- z_k+1, one segment long.
+  for (std::size_t c = 0; c < r.Mesh.NumberOfCells(); ++c)
+  {
+    if (r.CellLayer[c] < 0 || r.Mesh.Offsets[c + 1] - r.Mesh.Offsets[c] != 4)
+      continue;
+    const int k = r.CellLayer[c], side = r.CellSide[c];
+    double lo[2] = { 1e300, 1e300 }, hi[2] = { -1e300, -1e300 };
+    for (int j = 0; j < 4; ++j)
+      for (int d = 0; d < 2; ++d)
+      {
+        const double v = r.Mesh.Points[2 * r.Mesh.Connectivity[r.Mesh.Offsets[c] + j] + d];
+        lo[d] = std::min(lo[d], v);
+        hi[d] = std::max(hi[d], v);
+      }
+    const double near = side > 0 ? lo[1] - y0 : y0 - hi[1], far = side > 0 ? hi[1] - y0 : y0 - lo[1];
+    EXPECT_NEAR(near, z[k], 1e-9) << "cell " << c;
+    EXPECT_NEAR(far, z[k + 1], 1e-9) << "cell " << c;
+    EXPECT_NEAR(hi[0] - lo[0], 0.05, 1e-9);
+    EXPECT_NEAR(Area(r.Mesh, c), 0.05 * (z[k + 1] - z[k]), 1e-12); // a rectangle
+  }
+  // Deterministic.
+  ar::Cavity2DRemesh again;
+  ASSERT_TRUE(Remesh(grid, line, o, again, error));
+  EXPECT_EQ(again.Mesh.Points, r.Mesh.Points);
+  EXPECT_EQ(again.Mesh.Connectivity, r.Mesh.Connectivity);
+}
+
+// A circular arc (radius 0.3, from 200 to 340 degrees, below its centre): the band follows it, columns along the radius, the concave
+// side's quads narrower than the convex side's; all valid.
+TEST(Cavity2D, LayersOnACircularArc)
+{
+  const ar::Mesh2D grid = QuadGrid(20, 20, 0.05);
+  const double R = 0.3, cx = 0.5, cy = 0.75;
+  Curve arc;
+  const int segs = 24;
+  for (int i = 0; i <= segs; ++i)
+  {
+    const double t = (200.0 + 140.0 * i / segs) * M_PI / 180.0;
+    arc.Points.insert(arc.Points.end(), { cx + R * std::cos(t), cy + R * std::sin(t) });
+    if (i > 0)
+      arc.Segments.insert(arc.Segments.end(), { i - 1, i });
+  }
+  ar::Cavity2DOptions o;
+  o.Layers.NumberOfLayers = 5;
+  o.Layers.GrowthRatio = 1.2;
+  o.Layers.TotalThickness = 0.02;
+  ar::Cavity2DRemesh r;
+  std::string error;
+  ASSERT_TRUE(Remesh(grid, arc, o, r, error)) << error;
+  const std::size_t used = r.CurveSegmentsUsed, N = 5;
+  ASSERT_GE(used, 20u);
+  EXPECT_EQ(r.LayerQuads, 2 * N * (used - 2));
+  EXPECT_EQ(r.LayerTriangles, 2 * N * 2);
+  EXPECT_EQ(CheckLayered(grid, r, 1.0, 20.0), 2 * N * used);
+  // The columns: radial (to 1e-6 rad) and the full height away from the
+  // ends; next to an end the grading's MaxHeightGradient (0.5) of the
+  // segment (0.031) from the end's 0.
+  const double seg = 2.0 * R * std::sin(0.5 * 140.0 / segs * M_PI / 180.0);
+  std::size_t full = 0, graded = 0;
+  for (std::size_t i = 0; i < r.NumberOfCurvePoints; ++i)
+  {
+    const double* x = &r.Mesh.Points[2 * (r.FirstCurvePoint + i)];
+    const double h = r.Heights[i];
+    if (h > 0.0)
+    {
+      const double rx = (x[0] - cx) / R, ry = (x[1] - cy) / R;
+      EXPECT_GT(std::abs(rx * r.Normals[2 * i] + ry * r.Normals[2 * i + 1]), std::cos(1e-6)) << "node " << i;
+    }
+    full += std::abs(h - 0.02) < 1e-12 && std::abs(r.Heights[r.NumberOfCurvePoints + i] - 0.02) < 1e-12;
+    graded += std::abs(h - 0.5 * seg) < 1e-12 && std::abs(r.Heights[r.NumberOfCurvePoints + i] - 0.5 * seg) < 1e-12;
+  }
+  ASSERT_LT(0.5 * seg, 0.02);
+  EXPECT_EQ(full, used + 1 - 4); // all but the two ends and their neighbours
+  EXPECT_EQ(graded, 2u);
+}
+
+// A small closed circle (radius 0.06) with a stack (0.1) higher than its
+// radius: the inside would fold and reach the other side. The columns shrink (GapFraction of the free distance,
+// then the cell check) instead of failing; no ends, so only quads.
+TEST(Cavity2D, LayersShrinkInsideATightCircle)
+{
+  const ar::Mesh2D grid = QuadGrid(20, 20, 0.05);
+  const double R = 0.06;
+  Curve circle;
+  const int segs = 18;
+  for (int i = 0; i < segs; ++i)
+  {
+    const double t = 2.0 * M_PI * i / segs;
+    circle.Points.insert(circle.Points.end(), { 0.5 + R * std::cos(t), 0.5 + R * std::sin(t) });
+    circle.Segments.insert(circle.Segments.end(), { i, (i + 1) % segs });
+  }
+  ar::Cavity2DOptions o;
+  o.Layers.NumberOfLayers = 3;
+  o.Layers.GrowthRatio = 1.0;
+  o.Layers.TotalThickness = 0.1;
+  ar::Cavity2DRemesh r;
+  std::string error;
+  ASSERT_TRUE(Remesh(grid, circle, o, r, error)) << error;
+  EXPECT_EQ(r.LayerQuads, 2u * 3u * segs);
+  EXPECT_EQ(r.LayerTriangles, 0u);
+  EXPECT_EQ(CheckLayered(grid, r, 1.0, 20.0), 2u * 3u * segs);
+  EXPECT_GE(r.LimitedColumns, 1u * segs); // at least the inside
+  // The loop runs counter-clockwise: its + (left) side is the inside.
+  for (std::size_t i = 0; i < r.NumberOfCurvePoints; ++i)
+  {
+    const double inside = r.Heights[i], outside = r.Heights[r.NumberOfCurvePoints + i];
+    EXPECT_GT(inside, 0.0);
+    EXPECT_LE(inside, 0.35 * 2.0 * R + 1e-12); // GapFraction of the way to the other side
+    EXPECT_LE(outside, 0.1);
+  }
+}
+
+TEST(Cavity2D, LayersRefusedInput)
+{
+  const ar::Mesh2D grid = QuadGrid(20, 20, 0.05);
+  ar::Cavity2DOptions o;
+  o.Layers.NumberOfLayers = 3;
+  o.Layers.FirstLayerThickness = 0.005;
+  ar::Cavity2DRemesh r;
+  std::string error;
+  auto refuses = [&](const Curve& c, const char* fragment) {
+    error.clear();
+    EXPECT_FALSE(Remesh(grid, c, o, r, error)) << fragment;
+    EXPECT_NE(error.find(fragment), std::string::npos) << "error: " << error;
+  };
+  // A branch: a T of three arms meeting at (0.5, 0.5).
+  Curve tee = Line({ 0.2, 0.5 }, { 0.5, 0.5 }, 6);
+  for (const auto& end : { std::array<double, 2>{ 0.8, 0.5 }, std::array<double, 2>{ 0.5, 0.8 } })
+  {
+    const Curve arm = Line({ 0.5, 0.5 }, end, 6);
+    const auto base = static_cast<std::int64_t>(tee.Points.size() / 2) - 1; // arm's node 0 is tee's last
+    tee.Points.insert(tee.Points.end(), arm.Points.begin() + 2, arm.Points.end());
+    for (std::size_t s = 0; s < arm.Segments.size(); s += 2)
+      tee.Segments.insert(tee.Segments.end(), { arm.Segments[s] == 0 ? 6 : arm.Segments[s] + base,
+                                                  arm.Segments[s + 1] + base });
+  }
+  refuses(tee, "branches");
+  refuses(Line({ 0.4, 0.5 }, { 0.6, 0.5 }, 1), "cannot carry layers");
+  o.Layers.NumberOfLayers = 101;
+  refuses(Line({ 0.2, 0.5 }, { 0.8, 0.5 }, 10), "NumberOfLayers");
+  o.Layers.NumberOfLayers = 3;
+  o.Layers.FirstLayerThickness = 0.0;
+  refuses(Line({ 0.2, 0.5 }, { 0.8, 0.5 }, 10), "FirstLayerThickness");
+}
+
+// Two curves close together: a line (y = 0.5) and a shorter one above it
+// (y = 0.53, x in [0.3, 0.6]). Every stack keeps within GapFraction (0.35)
+// of the distance to the other curve in any direction, not only along its
+// normals (past the short line's ends the rays miss it), so the two bands
+// leave the refill a gap.
+TEST(Cavity2D, LayersOfTwoCloseCurves)
+{
+  const ar::Mesh2D grid = QuadGrid(20, 20, 0.05);
+  Curve both = Line({ 0.1, 0.5 }, { 0.9, 0.5 }, 32);
+  const Curve upper = Line({ 0.3, 0.53 }, { 0.6, 0.53 }, 12);
+  const auto base = static_cast<std::int64_t>(both.Points.size() / 2);
+  both.Points.insert(both.Points.end(), upper.Points.begin(), upper.Points.end());
+  for (std::int64_t s : upper.Segments)
+    both.Segments.push_back(s + base);
+  ar::Cavity2DOptions o;
+  o.Layers.NumberOfLayers = 3;
+  o.Layers.TotalThickness = 0.02;
+  ar::Cavity2DRemesh r;
+  std::string error;
+  ASSERT_TRUE(Remesh(grid, both, o, r, error)) << error;
+  EXPECT_EQ(r.LayerQuads, 2u * 3u * (32 - 2 + 12 - 2));
+  EXPECT_EQ(CheckLayered(grid, r, 1.0, 15.0), 2u * 3u * (32 + 12)); // 19.8 in the gap between the bands
+  // Distance from a node to the other curve (a segment y = const, x in [a, b]).
+  auto distance = [](const double* x, double y, double a, double b) {
+    return std::hypot(x[0] - std::clamp(x[0], a, b), x[1] - y);
+  };
+  std::size_t limited = 0;
+  for (std::size_t i = 0; i < r.NumberOfCurvePoints; ++i)
+  {
+    const double* x = &r.Mesh.Points[2 * (r.FirstCurvePoint + i)];
+    const bool lower = std::abs(x[1] - 0.5) < 1e-12;
+    const double d = lower ? distance(x, 0.53, 0.3, 0.6) : distance(x, 0.5, 0.1, 0.9);
+    for (int s = 0; s < 2; ++s)
+    {
+      const double h = r.Heights[s * r.NumberOfCurvePoints + i];
+      EXPECT_LE(h, 0.35 * d + 1e-12) << "node at (" << x[0] << ", " << x[1] << ")";
+      limited += h > 0.0 && h < 0.02 - 1e-12 ? 1 : 0;
+    }
+  }
+  EXPECT_GE(limited, 2u * 11u); // at least both sides of the short line's inner nodes
+}

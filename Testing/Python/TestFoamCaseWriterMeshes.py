@@ -17,7 +17,8 @@ tetrahedra) on it; (c) Data/hybrid_wall.vtu (tetrahedra, prisms, hexahedra,
 pyramids); (d) the OpenFOAM wedge (Data/wedge15Ma5.vtu as the OpenFOAM
 reader's multiblock, with a frontAndBack patch) remeshed in 2-D by
 EmbeddedRemesh: one cell deep, so frontAndBack is written `empty`, and
-checkMesh must find a 2-D mesh (2 solution directions).
+checkMesh must find a 2-D mesh (2 solution directions); (e) the same with
+LayerType Prisms (layers of hexahedra along the shock, issue 13).
 Bad input: an unwritable target (/proc), a non-empty directory that is not a
 case the writer wrote, a volume with no 3-D cells, a SourceCase with no
 constant/polyMesh/boundary, StartTime not a number: each an error naming
@@ -165,6 +166,19 @@ if r is not None:
     check(faces == blocks, "2-D: faces per patch %s = EmbeddedRemesh's patch blocks %s" % (faces, blocks))
     cls, _, _, patches = foamcase.read_field(os.path.join(case, "0", "p"))
     check(re.search(r"type\s+empty;", patches["frontAndBack"]) is not None, "2-D: field p is empty on frontAndBack")
+
+# ---- (e) the 2-D wedge with layers (issue 13): hexahedra along the shock
+# between the planes, wedges elsewhere; frontAndBack holds their quads.
+layered2d = EmbeddedRemesh(Input=source, Surfaces=[wfit], LayerType="Prisms")
+l2data = servermanager.Fetch(layered2d)
+_, counts = volume_grid(l2data)
+check(counts.get("hexahedra", 0) > 0 and counts.get("prisms", 0) > 0 and len(counts) == 2,
+      "2-D layers: the wedge remeshed in 2-D with layers of hexahedra %s" % counts)
+case, r = write_and_check("wedge2DLayers", layered2d, l2data, two_d=True)
+if r is not None:
+    faces = {name: int(e["nFaces"]) for name, e in r[4]}
+    blocks = {name: l2data.GetBlock(1).GetBlock(i).GetNumberOfCells() for i, name in enumerate(PATCHES)}
+    check(faces == blocks, "2-D layers: faces per patch %s = EmbeddedRemesh's patch blocks %s" % (faces, blocks))
 
 # ---- The checker can fail: one face reversed in a copy.
 bad = os.path.join(OUT, "reversed")

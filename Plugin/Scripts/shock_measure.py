@@ -189,9 +189,12 @@ def surface_stations(surface, count=24, margin=0.0, depth_axis=None):
             B = nps.vtk_to_numpy(edges.GetPoints().GetData()).astype(np.float64)
             Q = P.copy()
             if depth_axis is not None:
-                # only the strip's ends (edges across the depth) bound it
+                # only the strip's ends (edges across the depth) bound it; an
+                # edge on the front or back plane may differ in depth by
+                # round-off (a plane fitted a hair out of square, then cut)
                 lines = nps.vtk_to_numpy(edges.GetLines().GetConnectivityArray()).reshape(-1, 2)
-                across = lines[np.abs(B[lines[:, 0], depth_axis] - B[lines[:, 1], depth_axis]) > 0]
+                depth = np.ptp(P[:, depth_axis])
+                across = lines[np.abs(B[lines[:, 0], depth_axis] - B[lines[:, 1], depth_axis]) > 0.5 * depth]
                 B = B[np.unique(across)] if len(across) else B[:0]
                 B[:, depth_axis] = 0.0
                 Q[:, depth_axis] = 0.0

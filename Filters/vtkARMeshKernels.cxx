@@ -398,17 +398,16 @@ std::vector<double> vtkARMeshKernels::GatherOnRoot(const std::vector<double>& lo
 }
 
 //------------------------------------------------------------------------------
-void vtkARMeshKernels::EnsureThreadedBackend()
+void vtkARMeshKernels::Threaded(const std::function<void()>& work)
 {
-  static std::atomic<bool> done(false);
-  if (done.exchange(true))
-  {
-    return;
-  }
   const char* env = std::getenv("VTK_SMP_BACKEND_IN_USE");
   if ((env == nullptr || *env == '\0') && std::strcmp(vtkSMPTools::GetBackend(), "Sequential") == 0)
   {
-    vtkSMPTools::SetBackend("STDThread");
+    vtkSMPTools::LocalScope(vtkSMPTools::Config{ std::string("STDThread") }, work);
+  }
+  else
+  {
+    work();
   }
 }
 

@@ -19,6 +19,7 @@
 #include "vtkType.h"
 
 #include <atomic>
+#include <functional> // for Threaded
 #include <cmath>
 #include <string>
 #include <vector>
@@ -180,9 +181,12 @@ public:
   static std::vector<double> GatherOnRoot(const std::vector<double>& local);
   static int NumberOfRanks();
 
-  /// Selects the STDThread SMP backend when VTK would otherwise run
-  /// sequentially and the user has not chosen a backend.
-  static void EnsureThreadedBackend();
+  /// Runs `work` with vtkSMPTools on threads (STDThread) when VTK would
+  /// otherwise run it sequentially (Debian's ParaView defaults to Sequential)
+  /// and the user has not chosen a backend (VTK_SMP_BACKEND_IN_USE): a
+  /// vtkSMPTools::LocalScope, so the process's backend, and every other
+  /// filter of the user's session, is left as it is.
+  static void Threaded(const std::function<void()>& work);
 
   /// Abort check that is cheap and safe to call from worker threads.
   static bool Aborted(vtkAlgorithm* self);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkARSolverMesh.h"
+#include "vtkARMeshKernels.h"
 
 #include "ARCellQuality.h"
 
@@ -217,15 +218,7 @@ std::string vtkARSolverMesh::CleanName(const std::string& name, const std::strin
 
 void vtkARSolverMesh::Threaded(const std::function<void()>& work)
 {
-  const char* env = std::getenv("VTK_SMP_BACKEND_IN_USE");
-  if ((env == nullptr || *env == '\0') && std::strcmp(vtkSMPTools::GetBackend(), "Sequential") == 0)
-  {
-    vtkSMPTools::LocalScope(vtkSMPTools::Config{ std::string("STDThread") }, work);
-  }
-  else
-  {
-    work();
-  }
+  vtkARMeshKernels::Threaded(work);
 }
 
 void vtkARSolverMesh::AppendDouble(std::string& s, double v)

@@ -291,6 +291,17 @@ int vtkAdaptToShocks::RequestDataObject(
 
 //------------------------------------------------------------------------------
 int vtkAdaptToShocks::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // Threads for this filter's own work only: the process's SMP backend is
+  // left as the user has it.
+  int result = 1;
+  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
+  return result;
+}
+
+//------------------------------------------------------------------------------
+int vtkAdaptToShocks::ExecuteData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);

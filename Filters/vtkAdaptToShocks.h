@@ -129,6 +129,8 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
+  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
 
 private:
   vtkAdaptToShocks(const vtkAdaptToShocks&) = delete;

@@ -612,6 +612,17 @@ vtkUnstructuredGrid* vtkEmbeddedRemesh::VolumeLeaf(vtkDataObject* data)
 
 //------------------------------------------------------------------------------
 int vtkEmbeddedRemesh::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // Threads for this filter's own work only: the process's SMP backend is
+  // left as the user has it.
+  int result = 1;
+  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
+  return result;
+}
+
+//------------------------------------------------------------------------------
+int vtkEmbeddedRemesh::ExecuteData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);

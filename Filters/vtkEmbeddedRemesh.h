@@ -264,6 +264,8 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
+  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
 
   /// The remeshing of one volume mesh (the whole input, or a multiblock's
   /// volume leaf). In 2-D mode, `planes` (when given) receives what the

@@ -200,13 +200,23 @@ int vtkFeatureCluster::RequestUpdateExtent(
 
 //------------------------------------------------------------------------------
 int vtkFeatureCluster::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // Threads for this filter's own work only: the process's SMP backend is
+  // left as the user has it.
+  int result = 1;
+  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
+  return result;
+}
+
+//------------------------------------------------------------------------------
+int vtkFeatureCluster::ExecuteData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
   vtkPolyData* medial = vtkPolyData::GetData(outputVector, 1);
   output->ShallowCopy(input);
-  vtkARMeshKernels::EnsureThreadedBackend();
 
   std::ostringstream problem;
   vtkARMeshKernels::MeshView mesh;

@@ -104,6 +104,8 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
+  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
 
 private:
   vtkFeatureCluster(const vtkFeatureCluster&) = delete;

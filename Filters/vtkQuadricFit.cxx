@@ -503,6 +503,17 @@ int vtkQuadricFit::FillInputPortInformation(int port, vtkInformation* info)
 
 //------------------------------------------------------------------------------
 int vtkQuadricFit::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // Threads for this filter's own work only: the process's SMP backend is
+  // left as the user has it.
+  int result = 1;
+  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
+  return result;
+}
+
+//------------------------------------------------------------------------------
+int vtkQuadricFit::ExecuteData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPointSet* input = vtkPointSet::GetData(inputVector[0], 0);
@@ -510,7 +521,6 @@ int vtkQuadricFit::RequestData(
   vtkDataSet* domain = hasDomain ? vtkDataSet::GetData(inputVector[1], 0) : nullptr;
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   output->Initialize();
-  vtkARMeshKernels::EnsureThreadedBackend();
   vtkMultiProcessController* ctrl = Controller();
   const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
 

@@ -231,6 +231,8 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
+  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
 
 private:
   vtkQuadricFit(const vtkQuadricFit&) = delete;

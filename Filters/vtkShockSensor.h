@@ -163,6 +163,8 @@ protected:
 
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
+  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
 
 public:
   /// The names an automatic array of index `idx` (ArrayIndices) is looked

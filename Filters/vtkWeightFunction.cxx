@@ -75,12 +75,22 @@ int vtkWeightFunction::RequestUpdateExtent(
 
 //------------------------------------------------------------------------------
 int vtkWeightFunction::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // Threads for this filter's own work only: the process's SMP backend is
+  // left as the user has it.
+  int result = 1;
+  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
+  return result;
+}
+
+//------------------------------------------------------------------------------
+int vtkWeightFunction::ExecuteData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
   output->ShallowCopy(input);
-  vtkARMeshKernels::EnsureThreadedBackend();
 
   // ---- Validation. Every rank reaches the same collective calls, in order.
   std::ostringstream problem;

@@ -38,6 +38,8 @@ artest.load_plugin(globals())
 messages = vtkStringOutputWindow()
 vtkOutputWindow.SetInstance(messages)
 
+from vtkmodules.vtkCommonCore import vtkSMPTools
+backend = vtkSMPTools.GetBackend()  # Sequential in Debian's ParaView, unless the user chose one
 cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
 src = artest.fetch(cone)
 f = lambda d, n: artest.field(d, n)[0]
@@ -197,4 +199,9 @@ refused(AdaptToShocks(Input=bare_mesh()), ["No complete flow state", "the shock 
 refused(AdaptToShocks(Input=cone, Mode=3), ["Mode is 3"], "Mode 3")
 refused(AdaptToShocks(Input=cone, MinimumClusterFraction=0.0), ["MinimumClusterFraction is 0"], "MinimumClusterFraction 0")
 
+# The filters run their own work on threads in a vtkSMPTools::LocalScope:
+# the process's backend, which every other filter of the session uses, is
+# what it was (a filter used to switch it to STDThread for good).
+check(vtkSMPTools.GetBackend() == backend,
+      "the process's SMP backend is unchanged by the filters (%s, was %s)" % (vtkSMPTools.GetBackend(), backend))
 artest.finish()

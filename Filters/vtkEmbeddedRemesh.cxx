@@ -102,6 +102,29 @@ bool LayerOptionsOf(vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions&
   return vtkEmbeddedRemeshLayerOptions(self, edge, layers, problem);
 }
 
+/// NaN/Inf coordinates in the volume or a surface, or duplicated points (a
+/// crack) in the volume: the problem (empty when there is none), checked
+/// before any mesher sees the mesh (TetGen fails on, or corrupts its heap
+/// with, a crack).
+std::string CoordinatesAndConformity(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces)
+{
+  std::string bad = vtkARInputChecks::NonFinitePoints(input, "the volume mesh");
+  for (std::size_t k = 0; k < surfaces.size() && bad.empty(); ++k)
+  {
+    const std::string what = "feature surface " + std::to_string(k) + " (the Surfaces input)";
+    bad = vtkARInputChecks::NonFinitePoints(surfaces[k], what.c_str());
+  }
+  if (bad.empty())
+  {
+    bad = vtkARInputChecks::DuplicatedPoints(input);
+  }
+  if (!bad.empty())
+  {
+    bad.pop_back(); // the checks end their messages with a space
+  }
+  return bad;
+}
+
 /// The feature surfaces as bare triangles (geometry only: their arrays are
 /// not wanted), added to `append`.
 void AddSurfaceTriangles(const std::vector<vtkDataSet*>& surfaces, vtkAppendPolyData* append)
@@ -759,19 +782,9 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   // fails on, or corrupts its heap with, a crack of duplicated points). Its
   // time counts in SecondsInput.
   {
-    std::string bad = vtkARInputChecks::NonFinitePoints(input, "the volume mesh");
-    for (std::size_t k = 0; k < surfaces.size() && bad.empty(); ++k)
-    {
-      const std::string what = "feature surface " + std::to_string(k) + " (the Surfaces input)";
-      bad = vtkARInputChecks::NonFinitePoints(surfaces[k], what.c_str());
-    }
-    if (bad.empty())
-    {
-      bad = vtkARInputChecks::DuplicatedPoints(input);
-    }
+    const std::string bad = CoordinatesAndConformity(input, surfaces);
     if (!bad.empty())
     {
-      bad.pop_back();
       return passThrough("EmbeddedRemesh: " + bad);
     }
   }
@@ -1342,19 +1355,9 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   // ---- Coordinates and conformity of this rank's piece, as in serial (a
   // crack makes TetGen crash), agreed on by every rank: a crack on one rank
   // refuses the whole job.
-  problem = vtkARInputChecks::NonFinitePoints(input, "the volume mesh");
-  for (std::size_t k = 0; k < surfaces.size() && problem.empty(); ++k)
-  {
-    const std::string what = "feature surface " + std::to_string(k) + " (the Surfaces input)";
-    problem = vtkARInputChecks::NonFinitePoints(surfaces[k], what.c_str());
-  }
-  if (problem.empty())
-  {
-    problem = vtkARInputChecks::DuplicatedPoints(input);
-  }
+  problem = CoordinatesAndConformity(input, surfaces);
   if (!problem.empty())
   {
-    problem.pop_back();
     problem = "EmbeddedRemesh (rank " + std::to_string(rank) + "): " + problem;
   }
   if (failed())

@@ -12,7 +12,8 @@ property set.
   clusters' centred points as well as each alone, so they are joined into
   one surface (SurfaceClusters "0+1"). Given a template of its own
   (ClusterTemplates), the piece stays alone, and as its surface crosses the
-  main one it is left out with a warning.
+  main one it is left out with a warning. A second cycle with layers on the
+  layered output (no solve between): one surface, new triangles >= 10 deg.
 - The cone as the OpenFOAM reader gives it (a multiblock of internalMesh
   and patches): a multiblock out, the patches' face counts unchanged.
 - ClusterTemplates [0, Plane] overrides the automatic choice.
@@ -100,6 +101,18 @@ check(f(alone, "NumberOfSurfaces") == 1 and alone.FieldData["SurfaceClusters"].G
       and "crosses the surface of cluster 0 and is left out" in text,
       "wedge, cluster 1 given its own template: not joined; its surface crosses the main one and is left out "
       "with a warning")
+
+# A second cycle on the layered 2-D output without a solve in between (its
+# fields interpolated): the band of the shock in the thin layers used to fall
+# into overlapping pieces 0.0005 apart, fitted as three planes with 1.35-degree
+# triangles between them; centred and joined, it is one surface again.
+layered = AdaptToShocks(Input=wedge, LayerType=1)
+again = artest.fetch(AdaptToShocks(Input=layered, LayerType=1))
+members = again.FieldData["SurfaceClusters"] if "SurfaceClusters" in again.FieldData.keys() else None
+check(members is not None and members.GetNumberOfValues() == 1 and f(again, "MinTriangleAngleNew") >= 10.0,
+      "wedge, layers, a second cycle without a solve: one surface (%s), new triangles >= %.1f deg"
+      % ([members.GetValue(i) for i in range(members.GetNumberOfValues())] if members else None,
+         f(again, "MinTriangleAngleNew") if "MinTriangleAngleNew" in again.FieldData.keys() else float("nan")))
 
 # ---- The OpenFOAM reader's multiblock.
 patches = artest.CONE_PATCHES

@@ -216,10 +216,6 @@ std::string vtkARSolverMesh::CleanName(const std::string& name, const std::strin
   return clean.empty() ? fallback : clean;
 }
 
-void vtkARSolverMesh::Threaded(const std::function<void()>& work)
-{
-  vtkARMeshKernels::Threaded(work);
-}
 
 void vtkARSolverMesh::AppendDouble(std::string& s, double v)
 {
@@ -518,7 +514,7 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
   this->FacePartner.assign(static_cast<size_t>(nSlots), -1);
   std::atomic<vtkIdType> overShared(nCells); // the first cell making a face's third use
   std::atomic<vtkIdType> inverted(nCells);   // the first inverted or degenerate cell
-  Threaded([&]() {
+  vtkARMeshKernels::Threaded([&]() {
     vtkSMPTools::For(0, nBuckets, 1, [&](vtkIdType first, vtkIdType last) {
       for (vtkIdType bucket = first; bucket < last; ++bucket)
       {
@@ -890,7 +886,7 @@ void vtkARSolverMesh::GetInternalFaces(std::vector<vtkIdType>& owner,
   };
   std::vector<vtkIdType> firstFace(static_cast<size_t>(nCells) + 1, 0);
   std::vector<unsigned char> localFace;
-  Threaded([&]() {
+  vtkARMeshKernels::Threaded([&]() {
     vtkSMPTools::For(0, nCells, [&](vtkIdType first, vtkIdType last) {
       for (vtkIdType c = first; c < last; ++c)
       {
@@ -913,7 +909,7 @@ void vtkARSolverMesh::GetInternalFaces(std::vector<vtkIdType>& owner,
   localFace.resize(static_cast<size_t>(nInternal));
   offsets.resize(static_cast<size_t>(nInternal) + 1);
   offsets[0] = 0;
-  Threaded([&]() {
+  vtkARMeshKernels::Threaded([&]() {
     vtkSMPTools::For(0, nCells, [&](vtkIdType first, vtkIdType last) {
       for (vtkIdType c = first; c < last; ++c)
       {
@@ -943,7 +939,7 @@ void vtkARSolverMesh::GetInternalFaces(std::vector<vtkIdType>& owner,
     offsets[k + 1] += offsets[k];
   }
   connectivity.resize(static_cast<size_t>(offsets[nInternal]));
-  Threaded([&]() {
+  vtkARMeshKernels::Threaded([&]() {
     vtkSMPTools::For(0, nInternal, [&](vtkIdType first, vtkIdType last) {
       for (vtkIdType k = first; k < last; ++k)
       {

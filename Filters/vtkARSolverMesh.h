@@ -131,11 +131,6 @@ public:
   /// Shortest round-trip text of a double ("%.17g").
   static void AppendDouble(std::string& s, double v);
 
-  /// Runs `work` (vtkSMPTools loops) on the STDThread backend when the
-  /// process's is Sequential (ParaView's default) and the user has not
-  /// chosen one (VTK_SMP_BACKEND_IN_USE): scoped with
-  /// vtkSMPTools::LocalScope, the process's backend is left as it is.
-  static void Threaded(const std::function<void()>& work);
 };
 
 #endif

@@ -508,14 +508,13 @@ int vtkAdaptToShocks::ExecuteData(
   // worse one (1.25 x + 0.1 of the edge length). Two different shocks (two
   // planes apart, a plane and a cone) leave a residual of their distance.
   // Clusters with a template of their own (ClusterTemplates) stay alone.
+  auto own = [this](const std::vector<int>& ks) {
+    return std::any_of(ks.begin(), ks.end(), [this](int k) { return this->ClusterTemplates.count(k) > 0; });
+  };
   for (std::size_t i = 0; i < fitted.size(); ++i)
   {
     for (std::size_t j = i + 1; j < fitted.size(); ++j)
     {
-      auto own = [this](const std::vector<int>& ks) {
-        return std::any_of(ks.begin(), ks.end(),
-          [this](int k) { return this->ClusterTemplates.count(k) > 0; });
-      };
       if (own(fittedClusters[i]) || own(fittedClusters[j]))
       {
         continue;
@@ -544,11 +543,6 @@ int vtkAdaptToShocks::ExecuteData(
         return 1;
       }
     }
-  }
-  std::vector<int> fittedCluster; // the first (largest) cluster of each fitted surface
-  for (const auto& ks : fittedClusters)
-  {
-    fittedCluster.push_back(ks[0]);
   }
   if (fitted.empty())
   {
@@ -605,9 +599,10 @@ int vtkAdaptToShocks::ExecuteData(
       }
       if (crossed >= 0)
       {
-        vtkWarningMacro(<< "AdaptToShocks: the surface of cluster " << fittedCluster[i] << " ("
-                        << sizes[fittedCluster[i]] << " nodes) crosses the surface of cluster "
-                        << fittedCluster[crossed] << " and is left out.");
+        // (a surface's first cluster is its largest)
+        vtkWarningMacro(<< "AdaptToShocks: the surface of cluster " << fittedClusters[i][0] << " ("
+                        << sizes[fittedClusters[i][0]] << " nodes) crosses the surface of cluster "
+                        << fittedClusters[crossed][0] << " and is left out.");
         continue;
       }
       keptIndex.push_back(i);

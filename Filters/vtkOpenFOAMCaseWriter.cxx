@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkOpenFOAMCaseWriter.h"
+#include "vtkARMeshKernels.h"
 #include "vtkARInputChecks.h"
 #include "vtkARSolverMesh.h"
 
@@ -435,7 +436,7 @@ void WriteItems(std::ostream& out, vtkIdType n, const Append& append)
   for (vtkIdType b = 0; b < nChunks && out; b += batch)
   {
     const vtkIdType e = std::min(nChunks, b + batch);
-    vtkARSolverMesh::Threaded([&]() {
+    vtkARMeshKernels::Threaded([&]() {
       vtkSMPTools::For(b, e, 1, [&](vtkIdType first, vtkIdType last) {
         for (vtkIdType k = first; k < last; ++k)
         {

@@ -77,18 +77,10 @@ double Median(std::vector<double>& v)
 }
 
 
-/// Lower-case copy.
-std::string LowerCase(const char* s)
-{
-  std::string out(s ? s : "");
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
-  return out;
-}
-
-/// The one-component array of `domain` that ShockCentring reads: `name`, or
-/// with "(automatic)" (or none) the pressure, else the density, by the names
-/// solvers write (vtkShockSensor::KnownArrayNames), point data first. Null
-/// when there is none; `used` names it.
+/// The one-component array of `domain` that ShockCentring reads: `name`
+/// (point data first), or with "(automatic)" (or none) the pressure, else the
+/// density, by the names solvers write (vtkShockSensor::FindKnownArray).
+/// Null when there is none; `used` names it.
 vtkDataArray* CentringArrayOf(vtkDataSet* domain, const char* name, bool& cellData, std::string& used)
 {
   cellData = false;
@@ -96,42 +88,34 @@ vtkDataArray* CentringArrayOf(vtkDataSet* domain, const char* name, bool& cellDa
   {
     return nullptr;
   }
-  std::vector<std::string> wanted;
-  const bool automatic = !name || !*name || std::string(name) == vtkShockSensor::AutomaticArrayName;
-  if (automatic)
+  vtkDataArray* array = nullptr;
+  if (!name || !*name || std::string(name) == vtkShockSensor::AutomaticArrayName)
   {
+    int association = -1;
     for (const int idx : { vtkShockSensor::PRESSURE, vtkShockSensor::DENSITY })
     {
-      for (const char* const* n = vtkShockSensor::KnownArrayNames(idx); *n; ++n)
-      {
-        wanted.push_back(LowerCase(*n));
-      }
+      array = array ? array : vtkShockSensor::FindKnownArray(idx, 1, domain, association);
     }
+    cellData = association == vtkDataObject::FIELD_ASSOCIATION_CELLS;
   }
   else
   {
-    wanted.push_back(LowerCase(name));
-  }
-  for (const std::string& want : wanted)
-  {
-    for (int w = 0; w < 2; ++w)
+    for (vtkDataSetAttributes* data : { static_cast<vtkDataSetAttributes*>(domain->GetPointData()),
+           static_cast<vtkDataSetAttributes*>(domain->GetCellData()) })
     {
-      vtkDataSetAttributes* data = w == 0 ? static_cast<vtkDataSetAttributes*>(domain->GetPointData())
-                                          : static_cast<vtkDataSetAttributes*>(domain->GetCellData());
-      for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+      vtkDataArray* a = array ? nullptr : data->GetArray(name);
+      if (a && a->GetNumberOfComponents() == 1)
       {
-        vtkDataArray* array = data->GetArray(a);
-        if (array && array->GetName() && array->GetNumberOfComponents() == 1 &&
-          (automatic ? LowerCase(array->GetName()) == want : std::string(array->GetName()) == name))
-        {
-          cellData = w == 1;
-          used = array->GetName();
-          return array;
-        }
+        array = a;
+        cellData = data == static_cast<vtkDataSetAttributes*>(domain->GetCellData());
       }
     }
   }
-  return nullptr;
+  if (array)
+  {
+    used = array->GetName();
+  }
+  return array;
 }
 
 /**
@@ -924,6 +908,7 @@ int vtkQuadricFit::ExecuteData(
         shifts.push_back(std::abs(offset));
       }
       const std::size_t count = movedWeights.size();
+      const std::array<double, 3> firstResiduals = { residuals[0], residuals[1], residuals[2] };
       ar::SurfaceFitResult refit;
       std::string refitError;
       if (count >= std::max<std::size_t>(ar::SurfaceTemplateMinimumPoints(fit.Template), (n + 1) / 2) &&
@@ -940,11 +925,7 @@ int vtkQuadricFit::ExecuteData(
                         << " LocalSize along the fitted surface's normal"
                         << (refitError.empty() ? "" : " (" + refitError + ")")
                         << "; the first fit, of the points where they are, is kept.");
-        if (this->Template == AUTOMATIC)
-        {
-          std::string again;
-          fitPoints(xyz.data(), w.data(), n, fit, again); // the first fit's residuals back
-        }
+        std::copy(firstResiduals.begin(), firstResiduals.end(), residuals); // the first fit's
       }
     }
   }

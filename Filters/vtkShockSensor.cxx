@@ -117,8 +117,15 @@ vtkDataArray* vtkShockSensor::ResolveArray(
   {
     return this->GetInputArrayToProcess(idx, input, association);
   }
+  return FindKnownArray(idx, components, input, association);
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* vtkShockSensor::FindKnownArray(int idx, int components, vtkDataSet* input, int& association)
+{
+  association = -1;
   const int where[2] = { vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataObject::FIELD_ASSOCIATION_CELLS };
-  for (const char* const* n = KnownArrayNames(idx); *n; ++n)
+  for (const char* const* n = KnownArrayNames(idx); input && *n; ++n)
   {
     const std::string want = Lower(*n);
     for (int w = 0; w < 2; ++w)

@@ -172,6 +172,11 @@ public:
   static const char* const* KnownArrayNames(int idx);
   /// The name of an array left to the filter to find.
   static constexpr const char* AutomaticArrayName = "(automatic)";
+  /// The first array of `input` whose name is one of KnownArrayNames(idx)
+  /// (compared without case; for each name point data first, then cell
+  /// data) with `components` components; nullptr when there is none.
+  /// `association`: FIELD_ASSOCIATION_POINTS or _CELLS of the one found.
+  static vtkDataArray* FindKnownArray(int idx, int components, vtkDataSet* input, int& association);
 
 protected:
   /// The array of index `idx` on `input` (the named one, or the first known

@@ -115,6 +115,17 @@ bool Remesh(const ar::Mesh2D& mesh, const Curve& c, const ar::Cavity2DOptions& o
   return ar::RemeshLocalCavity2D(mesh, c.Points.data(), c.Points.size() / 2, c.Segments.data(),
     c.Segments.size() / 2, o, out, error);
 }
+
+/// Deterministic: the same input gives `r` again, bit for bit.
+void ExpectSameOnRerun(const ar::Mesh2D& mesh, const Curve& c, const ar::Cavity2DOptions& o,
+  const ar::Cavity2DRemesh& r)
+{
+  ar::Cavity2DRemesh again;
+  std::string error;
+  ASSERT_TRUE(Remesh(mesh, c, o, again, error)) << error;
+  EXPECT_EQ(again.Mesh.Points, r.Mesh.Points);
+  EXPECT_EQ(again.Mesh.Connectivity, r.Mesh.Connectivity);
+}
 }
 
 // A 20 x 20 grid of h = 0.05 on the unit square, an oblique line from one
@@ -249,11 +260,7 @@ TEST(Cavity2D, ObliqueLineInQuadGrid)
   EXPECT_LE(gone, r.RemovedNodes);
   EXPECT_EQ(keptPoints + r.RemovedNodes, grid.NumberOfPoints());
 
-  // Deterministic: the same input gives the same output, bit for bit.
-  ar::Cavity2DRemesh again;
-  ASSERT_TRUE(Remesh(grid, line, o, again, error));
-  EXPECT_EQ(again.Mesh.Points, r.Mesh.Points);
-  EXPECT_EQ(again.Mesh.Connectivity, r.Mesh.Connectivity);
+  ExpectSameOnRerun(grid, line, o, r);
 }
 
 // A line along a grid line (x = 0.5) at the grid's own spacing: the refill
@@ -589,11 +596,7 @@ TEST(Cavity2D, LayersOnAStraightLine)
     EXPECT_NEAR(hi[0] - lo[0], 0.05, 1e-9);
     EXPECT_NEAR(Area(r.Mesh, c), 0.05 * (z[k + 1] - z[k]), 1e-12); // a rectangle
   }
-  // Deterministic.
-  ar::Cavity2DRemesh again;
-  ASSERT_TRUE(Remesh(grid, line, o, again, error));
-  EXPECT_EQ(again.Mesh.Points, r.Mesh.Points);
-  EXPECT_EQ(again.Mesh.Connectivity, r.Mesh.Connectivity);
+  ExpectSameOnRerun(grid, line, o, r);
 }
 
 // A circular arc (radius 0.3, from 200 to 340 degrees, below its centre): the band follows it, columns along the radius, the concave

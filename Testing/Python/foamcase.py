@@ -73,6 +73,33 @@ def run(bashrc, case, command):
     return r.returncode, r.stdout
 
 
+def solved_tutorial(bashrc, tutorial, case, end_time, write_interval, check):
+    """A copy of an OpenFOAM tutorial in `case` (writable, its .gz files
+    unpacked), meshed with blockMesh and run with rhoCentralFoam to
+    `end_time`, writing every `write_interval`; each step asserted with
+    `check`. Returns False (after printing the log's end) when a step failed."""
+    import gzip
+    import shutil
+    shutil.copytree(tutorial, case)
+    for root, _, files in os.walk(case):
+        os.chmod(root, 0o755)
+        for f in files:
+            os.chmod(os.path.join(root, f), 0o644)
+            if f.endswith(".gz"):
+                with gzip.open(os.path.join(root, f)) as z, open(os.path.join(root, f[:-3]), "wb") as o:
+                    o.write(z.read())
+                os.remove(os.path.join(root, f))
+    for command in ("foamDictionary -entry endTime -set %s system/controlDict" % end_time,
+                    "foamDictionary -entry writeInterval -set %s system/controlDict" % write_interval,
+                    "blockMesh", "rhoCentralFoam"):
+        rc, log = run(bashrc, case, command)
+        check(rc == 0, "source case: %s exits 0" % command)
+        if rc != 0:
+            artest.say(log[-2000:])
+            return False
+    return True
+
+
 def boundary_patches(text):
     """{name: nFaces} of the text of a constant/polyMesh/boundary file."""
     text = re.sub(r"/\*.*?\*/", "", text, flags=re.S)

@@ -940,7 +940,48 @@ bool FitSurface(const double* points, const double* weights, std::size_t n,
   }
   w /= std::sqrt(w.squaredNorm() / static_cast<double>(n)); // RMS weight 1
   const VecX w2 = w.cwiseProduct(w);
-  const Principal pc = WeightedPCA(pts, w2);
+  Principal pc = WeightedPCA(pts, w2);
+  if (options.ExtrusionAxis >= 0 && options.ExtrusionAxis < 3)
+  {
+    // A surface extruded along a coordinate axis (a one-cell-deep mesh's
+    // points): the frame's z (the plane's normal) lies across the axis, x
+    // along the points' largest spread across it, y along the axis. The
+    // smallest spread is often the depth itself (a curved piece of a 2-D
+    // shock is thicker across than the mesh is deep), which would make the
+    // front plane the fit.
+    const int a = options.ExtrusionAxis;
+    Mat3 C = Mat3::Zero();
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      Vec3 q = pts[j] - pc.Centroid;
+      q[a] = 0.0;
+      C.noalias() += w2[j] * q * q.transpose();
+    }
+    C /= w2.sum();
+    const Eigen::SelfAdjointEigenSolver<Mat3> es(C);
+    // Eigenvalues ascending: the axis (0), then across, then along.
+    Vec3 minor = es.eigenvectors().col(1), major = es.eigenvectors().col(2);
+    minor[a] = 0.0;
+    major[a] = 0.0;
+    minor.normalize();
+    major.normalize();
+    Vec3 axis = Vec3::Zero();
+    axis[a] = 1.0;
+    const double along = pc.Variances.sum() - es.eigenvalues()[1] - es.eigenvalues()[2];
+    for (Vec3* d : { &minor, &major })
+    {
+      Eigen::Index i;
+      d->cwiseAbs().maxCoeff(&i);
+      if ((*d)[i] < 0.0)
+      {
+        *d = -*d;
+      }
+    }
+    pc.Directions.col(0) = minor;
+    pc.Directions.col(1) = axis;
+    pc.Directions.col(2) = major;
+    pc.Variances = Vec3(std::max(es.eigenvalues()[1], 0.0), std::max(along, 0.0), std::max(es.eigenvalues()[2], 0.0));
+  }
   const double total = pc.Variances.sum();
   if (!(total > 0.0))
   {
@@ -1516,6 +1557,7 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
   // quadric through them fits the two levels, not the shock: there only the
   // plane is a candidate (a curved 2-D shock needs a template of its own).
   bool extruded = false;
+  int extrusionAxis = -1;
   for (int axis = 0; axis < 3 && !extruded && n >= 4; ++axis)
   {
     double lo = std::numeric_limits<double>::max(), hi = -lo, span = 0.0;
@@ -1542,12 +1584,17 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
       two = std::abs(x - lo) <= tol || std::abs(x - hi) <= tol;
     }
     extruded = two;
+    extrusionAxis = two ? axis : -1;
   }
   double best = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 3; ++k)
   {
     SurfaceFitOptions o = options;
     o.Template = order[k];
+    if (extruded)
+    {
+      o.ExtrusionAxis = extrusionAxis;
+    }
     std::string e = "the points lie on two planes only (a one-cell-deep mesh): only the plane is tried";
     ok[k] = extruded && order[k] != SurfaceTemplate::Plane
       ? false

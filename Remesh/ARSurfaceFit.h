@@ -85,6 +85,12 @@ struct SurfaceFitOptions
   double AxisDirection[3] = { 0.0, 0.0, 1.0 };
   bool GeometricRefinement = true;        ///< orthogonal-distance refinement
   int MaximumIterations = 100;            ///< Levenberg-Marquardt iterations
+  /// -1, or the coordinate axis (0, 1, 2) along which the surface is
+  /// extruded (one-cell-deep points, set by FitSurfaceAutomatic): with the
+  /// automatic axis the frame's z and x then lie across it (z along the
+  /// points' smaller spread across the axis), y along it, so a plane
+  /// contains the axis however thin the mesh is.
+  int ExtrusionAxis = -1;
 };
 
 struct SurfaceFitResult

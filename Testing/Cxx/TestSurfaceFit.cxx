@@ -776,6 +776,38 @@ TEST(SurfaceFit, AutomaticTemplateOnAOneCellDeepBand)
   EXPECT_LT(AngleDeg({ r.Normal[0], r.Normal[1], 0.0 }, Unit({ -0.45, 1.0, 0.0 })), 0.2);
 }
 
+TEST(SurfaceFit, OneCellDeepArcThickerThanTheMesh)
+{
+  // A piece of a 2-D bow shock: an arc of radius 1.5 over 25 degrees (its
+  // sagitta 0.036) on the front and back planes of a mesh 0.01 deep. The
+  // points spread less along the depth than across the arc, so a plain
+  // principal-direction plane is the front plane (normal along z; the
+  // cylinderMa3 validation case's eight clusters all got it, and nothing
+  // crossed the mid-depth plane). The plane must contain the depth axis and
+  // lie along the arc's chord.
+  std::mt19937 rng(37);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Cloud c;
+  const double pi = std::acos(-1.0);
+  for (int i = 0; i < 300; ++i)
+  {
+    const double t = (20.0 + 25.0 * u(rng)) * pi / 180.0;
+    const double z = (i % 2) ? 0.005 : -0.005;
+    c.Add({ -1.5 * std::cos(t), 1.5 * std::sin(t), z }, 1.0 / 0.015);
+  }
+  ar::SurfaceFitOptions o;
+  ar::SurfaceFitResult r;
+  std::string error;
+  double res[3];
+  ASSERT_TRUE(ar::FitSurfaceAutomatic(c.X.data(), c.W.data(), c.Size(), o, false, 0.015, r, error, res)) << error;
+  EXPECT_EQ(r.Template, ar::SurfaceTemplate::Plane);
+  EXPECT_LT(std::abs(r.Normal[2]), 1e-12) << "the plane contains the depth axis";
+  // The chord's normal: the arc's mid-angle direction, 32.5 degrees.
+  const double mid = 32.5 * pi / 180.0;
+  EXPECT_LT(AngleDeg({ std::abs(r.Normal[0]), std::abs(r.Normal[1]), 0.0 }, Unit({ std::cos(mid), std::sin(mid), 0.0 })), 2.0);
+  EXPECT_LT(r.RMSResidual, 0.02) << "the sagitta's scale, not the arc's length";
+}
+
 // Two families of directions (the two-shocks-meet check of AdaptToShocks):
 // two tight families 35 degrees apart are found with their angle and a small
 // spread, signs ignored; one family gives close axes; a cone's normals (a

@@ -1175,11 +1175,20 @@ bool TessellateGraph(const SurfaceFitResult& fit, const double* points, std::siz
     hi[1] = std::max(hi[1], l[1]);
   }
   const double pad = reach + h;
-  lo[0] -= pad;
-  lo[1] -= pad;
-  hi[0] += pad;
-  hi[1] += pad;
   const double dy = h * std::sqrt(3.0) / 2.0;
+  // The grid is centred on the feet: a column and a row pass through the
+  // middle of their box. A surface across a one-cell-deep mesh (the plane's
+  // frame x then runs along the depth) thus has points at mid-depth, and the
+  // domain's trim keeps the strip inside the slab; with the grid starting
+  // anywhere, a slab thinner than the edge could fall between two columns
+  // and be trimmed away.
+  const double step[2] = { h, dy };
+  for (int k = 0; k < 2; ++k)
+  {
+    const double mid = 0.5 * (lo[k] + hi[k]);
+    lo[k] = mid - std::ceil((mid - lo[k] + pad) / step[k]) * step[k];
+    hi[k] = mid + std::ceil((hi[k] - mid + pad) / step[k]) * step[k];
+  }
   const double nxd = std::ceil((hi[0] - lo[0]) / h) + 1.0;
   const double nyd = std::ceil((hi[1] - lo[1]) / dy);
   if (TooMany(2.0 * nxd * nyd, maxTriangles, error))

@@ -806,6 +806,26 @@ TEST(SurfaceFit, OneCellDeepArcThickerThanTheMesh)
   const double mid = 32.5 * pi / 180.0;
   EXPECT_LT(AngleDeg({ std::abs(r.Normal[0]), std::abs(r.Normal[1]), 0.0 }, Unit({ std::cos(mid), std::sin(mid), 0.0 })), 2.0);
   EXPECT_LT(r.RMSResidual, 0.02) << "the sagitta's scale, not the arc's length";
+  // Meshed with an edge twice the depth, the plane still has a row of points
+  // at mid-depth along the whole arc (the domain's trim keeps the strip
+  // between the front and back planes; the two clusters of cylinderMa3 whose
+  // grid fell between two columns were trimmed to 2-3 triangles).
+  ar::SurfaceMesh mesh;
+  ASSERT_TRUE(ar::TessellateSurface(r, c.X.data(), c.Size(), 0.02, 0.02, mesh, error)) << error;
+  double lo = 1e9, hi = -1e9;
+  std::size_t middle = 0;
+  for (std::size_t i = 0; i < mesh.Points.size(); i += 3)
+  {
+    if (std::abs(mesh.Points[i + 2]) < 1e-9)
+    {
+      ++middle;
+      lo = std::min(lo, mesh.Points[i + 1]);
+      hi = std::max(hi, mesh.Points[i + 1]);
+    }
+  }
+  EXPECT_GE(middle, 10u);
+  EXPECT_LT(lo, 1.5 * std::sin(20.0 * pi / 180.0)) << "from the arc's lower end";
+  EXPECT_GT(hi, 1.5 * std::sin(45.0 * pi / 180.0)) << "to its upper end";
 }
 
 // Two families of directions (the two-shocks-meet check of AdaptToShocks):

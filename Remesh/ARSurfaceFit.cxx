@@ -207,7 +207,20 @@ struct Principal
   Mat3 Directions = Mat3::Identity(); // columns, ascending variance
 };
 
-Principal WeightedPCA(const std::vector<Vec3>& pts, const VecX& w2)
+/// Deterministic sign: the largest component positive.
+void PositiveLargest(Vec3& d)
+{
+  Eigen::Index i;
+  d.cwiseAbs().maxCoeff(&i);
+  if (d[i] < 0.0)
+  {
+    d = -d;
+  }
+}
+
+/// The weighted principal directions; with `dropAxis` (0, 1, 2) those of
+/// the points projected along that coordinate axis (its own variance 0).
+Principal WeightedPCA(const std::vector<Vec3>& pts, const VecX& w2, int dropAxis = -1)
 {
   Principal pc;
   const double W = w2.sum();
@@ -219,22 +232,22 @@ Principal WeightedPCA(const std::vector<Vec3>& pts, const VecX& w2)
   Mat3 C = Mat3::Zero();
   for (std::size_t j = 0; j < pts.size(); ++j)
   {
-    const Vec3 q = pts[j] - pc.Centroid;
+    Vec3 q = pts[j] - pc.Centroid;
+    if (dropAxis >= 0)
+    {
+      q[dropAxis] = 0.0;
+    }
     C.noalias() += w2[j] * q * q.transpose();
   }
   C /= W;
   Eigen::SelfAdjointEigenSolver<Mat3> es(C);
   pc.Variances = es.eigenvalues().cwiseMax(0.0);
   pc.Directions = es.eigenvectors();
-  // Deterministic signs: the largest component of each direction positive.
   for (int k = 0; k < 3; ++k)
   {
-    Eigen::Index i;
-    pc.Directions.col(k).cwiseAbs().maxCoeff(&i);
-    if (pc.Directions(i, k) < 0.0)
-    {
-      pc.Directions.col(k) = -pc.Directions.col(k);
-    }
+    Vec3 d = pc.Directions.col(k);
+    PositiveLargest(d);
+    pc.Directions.col(k) = d;
   }
   return pc;
 }
@@ -917,6 +930,12 @@ bool FitSurface(const double* points, const double* weights, std::size_t n,
       return false;
     }
   }
+  if (options.ExtrusionAxis < -1 || options.ExtrusionAxis > 2)
+  {
+    error = "ExtrusionAxis is " + std::to_string(options.ExtrusionAxis) +
+      "; it must be -1 (none) or a coordinate axis 0, 1 or 2.";
+    return false;
+  }
   if (!options.AutomaticAxis)
   {
     if (!Finite3(options.AxisDirection) || !Finite3(options.AxisOrigin))
@@ -941,7 +960,7 @@ bool FitSurface(const double* points, const double* weights, std::size_t n,
   w /= std::sqrt(w.squaredNorm() / static_cast<double>(n)); // RMS weight 1
   const VecX w2 = w.cwiseProduct(w);
   Principal pc = WeightedPCA(pts, w2);
-  if (options.ExtrusionAxis >= 0 && options.ExtrusionAxis < 3)
+  if (options.ExtrusionAxis >= 0)
   {
     // A surface extruded along a coordinate axis (a one-cell-deep mesh's
     // points): the frame's z (the plane's normal) lies across the axis, x
@@ -950,37 +969,17 @@ bool FitSurface(const double* points, const double* weights, std::size_t n,
     // shock is thicker across than the mesh is deep), which would make the
     // front plane the fit.
     const int a = options.ExtrusionAxis;
-    Mat3 C = Mat3::Zero();
-    for (std::size_t j = 0; j < n; ++j)
-    {
-      Vec3 q = pts[j] - pc.Centroid;
-      q[a] = 0.0;
-      C.noalias() += w2[j] * q * q.transpose();
-    }
-    C /= w2.sum();
-    const Eigen::SelfAdjointEigenSolver<Mat3> es(C);
-    // Eigenvalues ascending: the axis (0), then across, then along.
-    Vec3 minor = es.eigenvectors().col(1), major = es.eigenvectors().col(2);
-    minor[a] = 0.0;
-    major[a] = 0.0;
-    minor.normalize();
-    major.normalize();
+    const Principal across = WeightedPCA(pts, w2, a);
     Vec3 axis = Vec3::Zero();
     axis[a] = 1.0;
-    const double along = pc.Variances.sum() - es.eigenvalues()[1] - es.eigenvalues()[2];
-    for (Vec3* d : { &minor, &major })
-    {
-      Eigen::Index i;
-      d->cwiseAbs().maxCoeff(&i);
-      if ((*d)[i] < 0.0)
-      {
-        *d = -*d;
-      }
-    }
+    const Vec3 major = across.Directions.col(2);
+    Vec3 minor = axis.cross(major).normalized(); // exact, however thin the spread across
+    PositiveLargest(minor);
+    const double along = pc.Variances.sum() - across.Variances.sum();
     pc.Directions.col(0) = minor;
     pc.Directions.col(1) = axis;
     pc.Directions.col(2) = major;
-    pc.Variances = Vec3(std::max(es.eigenvalues()[1], 0.0), std::max(along, 0.0), std::max(es.eigenvalues()[2], 0.0));
+    pc.Variances = Vec3(across.Variances[1], std::max(along, 0.0), across.Variances[2]);
   }
   const double total = pc.Variances.sum();
   if (!(total > 0.0))
@@ -1565,9 +1564,8 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
   // 2-D mode defines such a mesh) lie on two lines or curves. A cone or a
   // quadric through them fits the two levels, not the shock: there only the
   // plane is a candidate (a curved 2-D shock needs a template of its own).
-  bool extruded = false;
   int extrusionAxis = -1;
-  for (int axis = 0; axis < 3 && !extruded && n >= 4; ++axis)
+  for (int axis = 0; axis < 3 && extrusionAxis < 0 && n >= 4; ++axis)
   {
     double lo = std::numeric_limits<double>::max(), hi = -lo, span = 0.0;
     for (std::size_t j = 0; j < n; ++j)
@@ -1592,9 +1590,9 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
       const double x = points[3 * j + axis];
       two = std::abs(x - lo) <= tol || std::abs(x - hi) <= tol;
     }
-    extruded = two;
     extrusionAxis = two ? axis : -1;
   }
+  const bool extruded = extrusionAxis >= 0;
   double best = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 3; ++k)
   {
@@ -1602,7 +1600,7 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
     o.Template = order[k];
     if (extruded)
     {
-      o.ExtrusionAxis = extrusionAxis;
+      o.ExtrusionAxis = extrusionAxis; // (a caller's own axis stays otherwise)
     }
     std::string e = "the points lie on two planes only (a one-cell-deep mesh): only the plane is tried";
     ok[k] = extruded && order[k] != SurfaceTemplate::Plane

@@ -741,7 +741,7 @@ int vtkQuadricFit::ExecuteData(
   options.GeometricRefinement = this->GeometricRefinement;
   ar::SurfaceFitResult fit;
   std::string error;
-  double residuals[3] = { 0.0, 0.0, 0.0 }; // plane, cone, quadric (automatic template)
+  double residuals[4] = { 0.0, 0.0, 0.0, 0.0 }; // plane, cone, quadric, quartic (automatic template)
   auto fitPoints = [&](const double* P, const double* W, std::size_t count, ar::SurfaceFitResult& f,
                      std::string& e) {
     return this->Template == AUTOMATIC
@@ -908,7 +908,7 @@ int vtkQuadricFit::ExecuteData(
         shifts.push_back(std::abs(offset));
       }
       const std::size_t count = movedWeights.size();
-      const std::array<double, 3> firstResiduals = { residuals[0], residuals[1], residuals[2] };
+      const std::array<double, 4> firstResiduals = { residuals[0], residuals[1], residuals[2], residuals[3] };
       ar::SurfaceFitResult refit;
       std::string refitError;
       if (count >= std::max<std::size_t>(ar::SurfaceTemplateMinimumPoints(fit.Template), (n + 1) / 2) &&
@@ -1132,8 +1132,9 @@ int vtkQuadricFit::ExecuteData(
   fd->AddArray(vtkARMeshKernels::FieldArray("RMSResidual", &fit.RMSResidual, 1));
   if (this->Template == AUTOMATIC)
   {
-    // Each candidate's RMS residual (plane, cone, quadric; NaN: not fitted).
-    fd->AddArray(vtkARMeshKernels::FieldArray("TemplateResiduals", residuals, 3));
+    // Each candidate's RMS residual (plane, cone, quadric, quartic; NaN: not
+    // tried or not fitted).
+    fd->AddArray(vtkARMeshKernels::FieldArray("TemplateResiduals", residuals, 4));
   }
   fd->AddArray(vtkARMeshKernels::FieldArray("WeightedRMSResidual", &fit.WeightedRMSResidual, 1));
   const double count = static_cast<double>(n);

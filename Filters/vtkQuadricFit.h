@@ -102,7 +102,7 @@ public:
     QUADRIC = 1,
     CONE = 2,
     QUARTIC = 3,
-    AUTOMATIC = 4 ///< plane, cone or quadric, by the fits' residuals (ar::FitSurfaceAutomatic)
+    AUTOMATIC = 4 ///< plane, cone, quadric (quartic on one-cell-deep points), by the fits' residuals (ar::FitSurfaceAutomatic)
   };
 
   /// The domain to trim the surface to (input port 1, optional).
@@ -113,7 +113,10 @@ public:
   /// The template surface. Default AUTOMATIC: the plane, the cone and the
   /// quadric are fitted and the simplest whose RMS residual is within 1.25 x
   /// the best + 0.1 x the points' median local size is kept (field data
-  /// Template names it, TemplateResiduals gives the three residuals). Not
+  /// Template names it, TemplateResiduals gives the residuals: plane, cone,
+  /// quadric, quartic). On one-cell-deep points (a 2-D mesh) the candidates
+  /// are the plane, the quadric and the quartic extruded along the depth
+  /// (z = f(x) across it: a curved 2-D shock), not the cone. Not
   /// clamped: a value outside 0..4 is refused with an error naming it.
   vtkSetMacro(Template, int);
   vtkGetMacro(Template, int);

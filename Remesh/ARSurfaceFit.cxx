@@ -426,31 +426,61 @@ bool FitGraph(const std::vector<Vec3>& pts, const VecX& w, const Principal& pc,
     P /= g.S;
   }
 
+  // The coefficients fitted: all of them, or on a surface extruded along the
+  // frame's y (ExtrusionAxis with the automatic frame, whose y is then that
+  // axis) only those of the monomials without y, so that z = f(x) is a
+  // cylinder over the axis: the two levels of a one-cell-deep mesh's points
+  // would otherwise let f bend along the depth.
+  const bool extruded = options.ExtrusionAxis >= 0 && options.AutomaticAxis;
+  std::vector<int> active;
+  for (int d = 0, k = 0; d <= g.Degree; ++d)
+  {
+    for (int i = d; i >= 0; --i, ++k)
+    {
+      if (!extruded || i == d)
+      {
+        active.push_back(k);
+      }
+    }
+  }
+  const int m = static_cast<int>(active.size());
+  auto scatter = [&](const VecX& reduced) {
+    VecX full = VecX::Zero(g.M);
+    for (int q = 0; q < m; ++q)
+    {
+      full[active[q]] = reduced[q];
+    }
+    return full;
+  };
+
   // ---- Eq. 4: vertical offsets, weighted, by rank-revealing QR.
-  MatX A(n, g.M);
+  MatX A(n, m);
   VecX b(n);
   double phi[15];
   for (std::size_t j = 0; j < n; ++j)
   {
     Monomials(g.Degree, g.P[j][0], g.P[j][1], phi);
-    for (int k = 0; k < g.M; ++k)
+    for (int q = 0; q < m; ++q)
     {
-      A(j, k) = w[j] * phi[k];
+      A(j, q) = w[j] * phi[active[q]];
     }
     b[j] = w[j] * g.P[j][2];
   }
   Eigen::ColPivHouseholderQR<MatX> qr(A);
   qr.setThreshold(RankThreshold);
-  if (qr.rank() < g.M)
+  if (qr.rank() < m)
   {
     std::ostringstream msg;
-    msg << "Singular system: the " << n << " points do not determine the " << g.M
-        << " coefficients of the " << SurfaceTemplateName(t) << " z = f(x, y) (rank " << qr.rank()
-        << "): their projections across the axis lie on a line or a low-degree curve.";
+    msg << "Singular system: the " << n << " points do not determine the " << m
+        << " coefficients of the " << SurfaceTemplateName(t)
+        << (extruded ? " z = f(x) extruded along the axis" : " z = f(x, y)") << " (rank "
+        << qr.rank() << "): their projections across the axis lie on "
+        << (extruded ? "too few distinct positions." : "a line or a low-degree curve.");
     error = msg.str();
     return false;
   }
-  VecX c = qr.solve(b);
+  VecX cr = qr.solve(b);
+  VecX c = scatter(cr);
 
   Store(frame.O, result.FrameOrigin);
   Store(frame.X, result.FrameX);
@@ -494,10 +524,23 @@ bool FitGraph(const std::vector<Vec3>& pts, const VecX& w, const Principal& pc,
   }
   if (options.GeometricRefinement)
   {
+    MatX Jfull;
     result.Iterations = LevenbergMarquardt(
-      c, g.M, options.MaximumIterations,
-      [&](const VecX& p, VecX& r, MatX& J) { return GraphResiduals(g, p, fu, fv, r, &J); },
+      cr, m, options.MaximumIterations,
+      [&](const VecX& p, VecX& r, MatX& J) {
+        if (!GraphResiduals(g, scatter(p), fu, fv, r, &Jfull))
+        {
+          return false;
+        }
+        J.resize(static_cast<Eigen::Index>(n), m);
+        for (int q = 0; q < m; ++q)
+        {
+          J.col(q) = Jfull.col(active[q]);
+        }
+        return true;
+      },
       [](const VecX& p, const VecX& delta) -> VecX { return p + delta; });
+    c = scatter(cr);
     result.Refined = true;
   }
   // Unscale: z/S = sum c~_ik (x/S)^i (y/S)^k  ->  c_ik = c~_ik S^(1-i-k).
@@ -1553,17 +1596,21 @@ bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n
 }
 bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_t n,
   const SurfaceFitOptions& options, bool robust, double size, SurfaceFitResult& result, std::string& error,
-  double residuals[3])
+  double residuals[4])
 {
-  const SurfaceTemplate order[3] = { SurfaceTemplate::Plane, SurfaceTemplate::Cone, SurfaceTemplate::Quadric };
-  SurfaceFitResult fits[3];
-  bool ok[3] = { false, false, false };
+  const SurfaceTemplate order[4] = { SurfaceTemplate::Plane, SurfaceTemplate::Cone, SurfaceTemplate::Quadric,
+    SurfaceTemplate::Quartic };
+  SurfaceFitResult fits[4];
+  bool ok[4] = { false, false, false, false };
   std::string why;
   // Points on two planes normal to a coordinate axis only (the medial points
   // of a one-cell-deep, 2-D mesh: its front and back nodes, as EmbeddedRemesh's
-  // 2-D mode defines such a mesh) lie on two lines or curves. A cone or a
-  // quadric through them fits the two levels, not the shock: there only the
-  // plane is a candidate (a curved 2-D shock needs a template of its own).
+  // 2-D mode defines such a mesh) lie on two lines or curves. A cone
+  // through them fits the two levels, not the shock: there the candidates are
+  // the plane, the quadric and the quartic, extruded along that axis (z = f(x)
+  // across it: a curved 2-D shock; a parabola through a whole bow shock
+  // misses its vertex by a cell or two, the quartic by a fiftieth). In 3-D
+  // the quartic's 15 coefficients follow the points' noise: not tried.
   int extrusionAxis = -1;
   for (int axis = 0; axis < 3 && extrusionAxis < 0 && n >= 4; ++axis)
   {
@@ -1594,7 +1641,7 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
   }
   const bool extruded = extrusionAxis >= 0;
   double best = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < 4; ++k)
   {
     SurfaceFitOptions o = options;
     o.Template = order[k];
@@ -1602,11 +1649,11 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
     {
       o.ExtrusionAxis = extrusionAxis; // (a caller's own axis stays otherwise)
     }
-    std::string e = "the points lie on two planes only (a one-cell-deep mesh): only the plane is tried";
-    ok[k] = extruded && order[k] != SurfaceTemplate::Plane
-      ? false
-      : robust ? FitSurfaceRobust(points, weights, n, o, fits[k], e) : FitSurface(points, weights, n, o, fits[k], e);
-    if (!ok[k])
+    const bool tried = extruded ? order[k] != SurfaceTemplate::Cone : order[k] != SurfaceTemplate::Quartic;
+    std::string e;
+    ok[k] = tried &&
+      (robust ? FitSurfaceRobust(points, weights, n, o, fits[k], e) : FitSurface(points, weights, n, o, fits[k], e));
+    if (tried && !ok[k])
     {
       why += std::string(why.empty() ? "" : "; ") + SurfaceTemplateName(order[k]) + ": " + e;
     }
@@ -1625,7 +1672,7 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
     return false;
   }
   const double bound = AutomaticTemplateRatio * best + AutomaticTemplateSlack * std::max(size, 0.0);
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < 4; ++k)
   {
     if (ok[k] && fits[k].RMSResidual <= bound)
     {

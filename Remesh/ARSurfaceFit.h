@@ -89,7 +89,8 @@ struct SurfaceFitOptions
   /// extruded (one-cell-deep points, set by FitSurfaceAutomatic): with the
   /// automatic axis the frame's z and x then lie across it (z along the
   /// points' smaller spread across the axis), y along it, so a plane
-  /// contains the axis however thin the mesh is.
+  /// contains the axis however thin the mesh is, and a quadric or quartic
+  /// has only the monomials in x (z = f(x): a cylinder over the axis).
   int ExtrusionAxis = -1;
 };
 
@@ -160,23 +161,26 @@ bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n
 
 /// The automatic choice of a template (the paper leaves it to the user): the
 /// plane, the cone and the quadric are fitted (robustly when `robust`), and
-/// the simplest of them (in that order) whose RMS residual is within
+/// the simplest of them (in that order, the quartic last) whose RMS residual is within
 /// AutomaticTemplateRatio x the best one's + AutomaticTemplateSlack x `size`
 /// wins. `size` is the points' typical local mesh size (the median l_j): a
 /// residual a tenth of a cell above the best is no better surface for the
 /// mesher, so the simpler template is kept (a plane shock is not fitted by
-/// a cone of half-angle 89 degrees). `residuals`, if given, gets the three
-/// RMS residuals (NaN where that template could not be fitted). Points that
-/// lie on two planes normal to a coordinate axis only (a one-cell-deep
-/// mesh's front and back) get the plane: a cone or a quadric fits the two
-/// levels, not the shock (a curved 2-D shock needs a template of its own).
-/// False with
+/// a cone of half-angle 89 degrees). `residuals`, if given, gets the four
+/// RMS residuals, plane, cone, quadric, quartic (NaN where that template was
+/// not tried or could not be fitted). The quartic is tried only on points
+/// that lie on two planes normal to a coordinate axis (a one-cell-deep
+/// mesh's front and back); those are fitted with ExtrusionAxis set to that
+/// axis: the plane, the quadric and the quartic z = f(x) extruded along it
+/// (a curved 2-D shock: a parabola through a whole bow shock misses its
+/// vertex by a cell or two, the quartic does not); the cone, which would fit
+/// the two levels rather than the shock, is not tried. False with
 /// `error` (every fit's failure) when none could be fitted.
 constexpr double AutomaticTemplateRatio = 1.25;
 constexpr double AutomaticTemplateSlack = 0.1;
 bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_t n,
   const SurfaceFitOptions& options, bool robust, double size, SurfaceFitResult& result, std::string& error,
-  double residuals[3] = nullptr);
+  double residuals[4] = nullptr);
 
 /// Signed orthogonal distance of p from the fitted surface (positive on the
 /// +FrameZ side of a graph surface or plane, outside a cone).

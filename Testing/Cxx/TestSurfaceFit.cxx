@@ -749,9 +749,10 @@ TEST(SurfaceFit, RobustScaleFollowsTheLocalSize)
 TEST(SurfaceFit, AutomaticTemplateOnAOneCellDeepBand)
 {
   // A 2-D mesh's medial points: a noisy line in the section, on the front
-  // and the back plane (z = +-0.005) only. A cone or a quadric through the
-  // two lines fits them better than the plane (they fit the two levels),
-  // but they are not the shock: the plane is chosen.
+  // and the back plane (z = +-0.005) only. A cone through the two lines
+  // fits them better than the plane (it fits the two levels), but it is not
+  // the shock: it is not tried; the quadric and the quartic, extruded along
+  // the depth, fit the noise no better than the plane, which is chosen.
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::normal_distribution<double> noise(0.0, 0.002);
@@ -765,12 +766,14 @@ TEST(SurfaceFit, AutomaticTemplateOnAOneCellDeepBand)
   ar::SurfaceFitOptions o;
   ar::SurfaceFitResult r;
   std::string error;
-  double res[3];
+  double res[4];
   ASSERT_TRUE(ar::FitSurfaceAutomatic(c.X.data(), c.W.data(), c.Size(), o, true, 0.01, r, error, res)) << error;
-  std::printf("one cell deep: %s (residuals plane %.5f, cone %.5f, quadric %.5f), normal %.4f %.4f %.4f\n",
-    ar::SurfaceTemplateName(r.Template), res[0], res[1], res[2], r.Normal[0], r.Normal[1], r.Normal[2]);
+  std::printf("one cell deep: %s (residuals plane %.5f, cone %.5f, quadric %.5f, quartic %.5f), normal %.4f %.4f %.4f\n",
+    ar::SurfaceTemplateName(r.Template), res[0], res[1], res[2], res[3], r.Normal[0], r.Normal[1], r.Normal[2]);
   EXPECT_EQ(r.Template, ar::SurfaceTemplate::Plane);
-  EXPECT_TRUE(std::isnan(res[1]) && std::isnan(res[2])) << "the cone and the quadric are not tried";
+  EXPECT_TRUE(std::isnan(res[1])) << "the cone is not tried";
+  EXPECT_TRUE(std::isfinite(res[2]) && std::isfinite(res[3])) << "the extruded quadric and quartic are";
+  EXPECT_GT(res[2], 0.9 * res[0]) << "the noise is not a curve";
   // The line in the section (the depth tilt is not determined by two levels
   // 0.01 apart; EmbeddedRemesh's 2-D mode cuts S at mid-depth).
   EXPECT_LT(AngleDeg({ r.Normal[0], r.Normal[1], 0.0 }, Unit({ -0.45, 1.0, 0.0 })), 0.2);
@@ -798,8 +801,8 @@ TEST(SurfaceFit, OneCellDeepArcThickerThanTheMesh)
   ar::SurfaceFitOptions o;
   ar::SurfaceFitResult r;
   std::string error;
-  double res[3];
-  ASSERT_TRUE(ar::FitSurfaceAutomatic(c.X.data(), c.W.data(), c.Size(), o, false, 0.015, r, error, res)) << error;
+  o.ExtrusionAxis = 2; // as FitSurfaceAutomatic sets it on these points
+  ASSERT_TRUE(ar::FitSurface(c.X.data(), c.W.data(), c.Size(), o, r, error)) << error;
   EXPECT_EQ(r.Template, ar::SurfaceTemplate::Plane);
   EXPECT_LT(std::abs(r.Normal[2]), 1e-12) << "the plane contains the depth axis";
   // The chord's normal: the arc's mid-angle direction, 32.5 degrees.
@@ -826,6 +829,97 @@ TEST(SurfaceFit, OneCellDeepArcThickerThanTheMesh)
   EXPECT_GE(middle, 10u);
   EXPECT_LT(lo, 1.5 * std::sin(20.0 * pi / 180.0)) << "from the arc's lower end";
   EXPECT_GT(hi, 1.5 * std::sin(45.0 * pi / 180.0)) << "to its upper end";
+}
+
+// A 2-D bow shock: Billig's (1967) correlation for Mach 3 over a cylinder of
+// radius 0.5 (standoff 0.324, vertex radius 2.02, asymptotes at the Mach
+// angle), the upper half y in [0, 1.8] (symmetry plane y = 0) on the front
+// and back planes of a mesh 0.01 deep, as a band of noise 0.002 (a quarter
+// of the cells, 0.008). The shock turns 50 degrees. A parabola through it
+// misses the vertex by 1.6 cells (its error is largest at the ends); the
+// automatic choice is the quartic, extruded along the depth, and its vertex
+// is within a quarter of a cell.
+TEST(SurfaceFit, OneCellDeepBowShockVertex)
+{
+  const double R = 0.5, standoff = 0.324, Rc = 2.02, beta = std::asin(1.0 / 3.0);
+  const double t2 = std::tan(beta) * std::tan(beta);
+  auto shockX = [&](double y) { return -(R + standoff) + Rc / t2 * (std::sqrt(1.0 + y * y * t2 / (Rc * Rc)) - 1.0); };
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  Cloud c;
+  for (int i = 0; i < 600; ++i)
+  {
+    const double y = 1.8 * u(rng);
+    const double z = (i % 2) ? 0.005 : -0.005;
+    c.Add({ shockX(y) + noise(rng), y, z }, 1.0 / 0.008);
+  }
+  ar::SurfaceFitOptions o;
+  ar::SurfaceFitResult r;
+  std::string error;
+  double res[4];
+  ASSERT_TRUE(ar::FitSurfaceAutomatic(c.X.data(), c.W.data(), c.Size(), o, true, 0.008, r, error, res)) << error;
+  std::printf("bow shock: %s (residuals plane %.5f, cone %.5f, quadric %.5f, quartic %.5f)\n",
+    ar::SurfaceTemplateName(r.Template), res[0], res[1], res[2], res[3]);
+  EXPECT_EQ(r.Template, ar::SurfaceTemplate::Quartic);
+  EXPECT_TRUE(std::isnan(res[1])) << "the cone is not tried";
+  EXPECT_GT(std::abs(r.FrameY[2]), 1.0 - 1e-12) << "the frame's y is the depth axis";
+  ASSERT_EQ(r.Coefficients.size(), 15u);
+  // Monomials by total degree, then falling power of x: only 1, x, ..., x^4.
+  for (int d = 0, k = 0; d <= 4; ++d)
+  {
+    for (int i = d; i >= 0; --i, ++k)
+    {
+      if (i != d)
+      {
+        EXPECT_EQ(r.Coefficients[k], 0.0) << "coefficient " << k << " has a power of y";
+      }
+    }
+  }
+  // Where the surface crosses the stagnation line (y = 0, at mid-depth and
+  // on the front plane): bisection on the signed distance.
+  auto crossing = [&](const ar::SurfaceFitResult& f, double z) {
+    double a = -1.2, b = -0.5;
+    const double pa[3] = { a, 0.0, z };
+    const double sa = ar::SurfaceDistance(f, pa);
+    for (int it = 0; it < 60; ++it)
+    {
+      const double m = 0.5 * (a + b);
+      const double pm[3] = { m, 0.0, z };
+      ((ar::SurfaceDistance(f, pm) > 0.0) == (sa > 0.0) ? a : b) = m;
+    }
+    return 0.5 * (a + b);
+  };
+  const double vertex = shockX(0.0);
+  const double x0 = crossing(r, 0.0);
+  std::printf("bow shock vertex: fitted %.5f, true %.5f (%+.5f)\n", x0, vertex, x0 - vertex);
+  EXPECT_LT(std::abs(x0 - vertex), 0.002) << "within a quarter of a cell";
+  EXPECT_NEAR(crossing(r, 0.005), x0, 1e-12) << "extruded: the same on the front plane";
+  ar::SurfaceFitResult q;
+  o.Template = ar::SurfaceTemplate::Quadric;
+  o.ExtrusionAxis = 2;
+  ASSERT_TRUE(ar::FitSurface(c.X.data(), c.W.data(), c.Size(), o, q, error)) << error;
+  EXPECT_GT(std::abs(crossing(q, 0.0) - vertex), 0.006) << "why not the parabola: it misses the vertex";
+  // Meshed, the quartic has a row of points at mid-depth from the vertex to
+  // the far end.
+  ar::SurfaceMesh mesh;
+  ASSERT_TRUE(ar::TessellateSurface(r, c.X.data(), c.Size(), 0.02, 0.02, mesh, error)) << error;
+  double lo = 1e9, hi = -1e9;
+  for (std::size_t i = 0; i < mesh.Points.size(); i += 3)
+  {
+    if (std::abs(mesh.Points[i + 2]) < 1e-9)
+    {
+      lo = std::min(lo, mesh.Points[i + 1]);
+      hi = std::max(hi, mesh.Points[i + 1]);
+      const double y = mesh.Points[i + 1];
+      if (y >= 0.0 && y <= 1.8) // (the mesh reaches beyond the points by the pad)
+      {
+        EXPECT_NEAR(mesh.Points[i], shockX(y), 0.005);
+      }
+    }
+  }
+  EXPECT_LT(lo, 0.02);
+  EXPECT_GT(hi, 1.75);
 }
 
 // Two families of directions (the two-shocks-meet check of AdaptToShocks):

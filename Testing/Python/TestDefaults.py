@@ -38,7 +38,7 @@ QuadricFit with its Domain) on the three bundled solutions: the automatic
 template is the plane on the wedge (theta-beta-Mach within 0.5 degree) and
 on the analytic oblique shock, the cone on the cone (Taylor-Maccoll within
 0.5 degree); TemplateResiduals holds the
-three candidates' residuals and the chosen one's is within the documented
+four candidates' residuals (NaN for one not tried) and the chosen one's is within the documented
 bound; a Template of 9 is refused by name; QuadricFit connected to
 FeatureCluster's first port is told so.
 """
@@ -228,8 +228,8 @@ def chosen(fit, size, label):
     t = fit.FieldData["Template"].GetValue(0)
     res = artest.field(fit, "TemplateResiduals")
     best = np.nanmin(res)
-    check(len(res) == 3 and artest.field(fit, "RMSResidual")[0] <= 1.25 * best + 0.1 * size + 1e-15,
-          "%s: %s chosen, residuals plane / cone / quadric %s (median local size %.4f)" % (label, t, res, size))
+    check(len(res) == 4 and artest.field(fit, "RMSResidual")[0] <= 1.25 * best + 0.1 * size + 1e-15,
+          "%s: %s chosen, residuals plane / cone / quadric / quartic %s (median local size %.4f)" % (label, t, res, size))
     return t
 
 

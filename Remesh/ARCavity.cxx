@@ -50,7 +50,6 @@ using Sphere = CGAL::Fuzzy_sphere<SearchTraits>;
 
 constexpr int FaceVertex[4][3] = { { 1, 2, 3 }, { 0, 3, 2 }, { 0, 1, 3 }, { 0, 2, 1 } };
 
-
 Point P(const double* x)
 {
   return Point(x[0], x[1], x[2]);
@@ -167,24 +166,169 @@ void ClearPinches(const std::int64_t* tris, std::size_t nPoints, std::size_t nTr
   }
 }
 
-/// RemeshLocalCavity; with `removedOnly`, stops after the removal test and
-/// returns its per-node flags there.
-bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
-  const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,
-  CavityRemesh& out, std::vector<std::uint8_t>* removedOnly, std::string& error)
+/**
+ * One RemeshLocalCavity run: the inputs, the state its stages share, and the
+ * stages in the order they run (Execute), each a step of the header's
+ * algorithm; as vtkFlyingEdges3DAlgorithm keeps its passes over one state.
+ */
+class CavityRun
 {
-  out = CavityRemesh();
-  using Clock = std::chrono::steady_clock;
-  auto stageStart = Clock::now();
-  // Adds the time since the last call to `stage`.
-  auto lap = [&stageStart](double& stage) {
+public:
+  CavityRun(const TetMesh& v, const double* surfacePoints_, std::size_t nSurfacePoints_,
+    const std::int64_t* surfaceTriangles_, std::size_t nSurfaceTriangles_, const CavityOptions& options_,
+    CavityRemesh& out_, std::string& error_)
+    : V(v)
+    , surfacePoints(surfacePoints_)
+    , nSurfacePoints(nSurfacePoints_)
+    , surfaceTriangles(surfaceTriangles_)
+    , nSurfaceTriangles(nSurfaceTriangles_)
+    , options(options_)
+    , out(out_)
+    , error(error_)
+    , nV(v.NumberOfPoints())
+    , nT(v.NumberOfTetrahedra())
+  {
+  }
+
+  /// RemeshLocalCavity; with `removedOnly`, stops after the removal test and
+  /// returns its per-node flags there.
+  bool Execute(std::vector<std::uint8_t>* removedOnly);
+
+private:
+  bool Validate();
+  bool CheckLayerOptions();
+  void ComputeSizes();
+  void ComputeMeans(std::vector<char>& need);
+  bool BuildAdjacency();
+  bool BuildLockedRegion();
+  bool TrimSurface();
+  bool CheckSelfIntersection();
+  bool MarkRemovedNodes();
+  bool MarkCavity();
+  void BuildCavityBoundary();
+  bool CheckSurfaceInsideCavity();
+  bool AddSurfaceOrStack(int attempt);
+  void AddHolePoints();
+  bool Refill();
+  bool GrowAtSlivers();
+  void Assemble();
+
+  /// Adds the time since the last call to `stage`.
+  void Lap(double& stage)
+  {
     const auto now = Clock::now();
     stage += std::chrono::duration<double>(now - stageStart).count();
     stageStart = now;
-  };
-  const std::size_t nV = V.NumberOfPoints();
-  const std::size_t nT = V.NumberOfTetrahedra();
-  // ---- Validation.
+  }
+
+  using Clock = std::chrono::steady_clock;
+
+  // Inputs.
+  const TetMesh& V;
+  const double* surfacePoints;
+  const std::size_t nSurfacePoints;
+  const std::int64_t* surfaceTriangles;
+  const std::size_t nSurfaceTriangles;
+  const CavityOptions& options;
+  CavityRemesh& out;
+  std::string& error;
+  const std::size_t nV, nT;
+  Clock::time_point stageStart = Clock::now();
+
+  // Validation and options.
+  std::vector<double> S;     // the surface's points
+  bool layers = false;       // prism layers on
+  double stackHeight = 0.0;  // z_N: added to the removal radius
+  // Sizes: longest edge at V's and S's nodes; V's mean edge where needed.
+  std::vector<double> lv, ls, meanV;
+  std::vector<char> hasMean;
+  // V's face adjacency, the domain boundary and the locked region (trees).
+  std::vector<std::int64_t> neighbor;
+  std::vector<Triangle> boundary, lockedFaces;
+  Tree tree, lockedTree;
+  // The trimmed S.
+  double margin = 0.0;
+  std::vector<double> sPoints, sSize;
+  std::vector<std::int64_t> sTris;
+  // Removal and the cavity.
+  std::vector<char> removed, cavity;
+  bool givenCavity = false;
+  // The refill's complex: the cavity's boundary (canonical order), S or the
+  // layer stack's outer surface, hole points; and its result.
+  std::vector<std::int64_t> plcIndex;
+  PiecewiseLinearComplex plc;
+  std::vector<double> nodeSize;
+  std::int64_t nBoundaryNodes = 0;
+  std::size_t nShell = 0;
+  UnionFind kept{ 0 };
+  std::vector<char> touchesCavity;
+  TetGenResult refill;
+  PrismStack stack;                      // the layer stack (options.Layers on)
+  std::vector<std::int64_t> stackOuter;  // its outer nodes (stack ids), in the PLC after the cavity's
+  std::vector<double> stackOuterSize;
+};
+
+bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
+{
+  out = CavityRemesh();
+  stageStart = Clock::now();
+  if (!Validate() || !CheckLayerOptions())
+  {
+    return false;
+  }
+  ComputeSizes();
+  if (!BuildAdjacency())
+  {
+    return false;
+  }
+  Lap(out.Seconds.Setup);
+  if (!BuildLockedRegion() || !TrimSurface() || !CheckSelfIntersection() || !MarkRemovedNodes())
+  {
+    return false;
+  }
+  if (removedOnly)
+  {
+    removedOnly->assign(removed.begin(), removed.end());
+    return true;
+  }
+  Lap(out.Seconds.Removal);
+  if (!MarkCavity())
+  {
+    return false;
+  }
+  // Nodes of the cavity's boundary faces stay; the other nodes of cavity cells
+  // go. TetGen cannot place a point on a kept face (-Y), so where the
+  // cavity's boundary has a pocket of nearly coplanar kept nodes it must make
+  // a sliver from them: the kept cells at such slivers join the cavity and
+  // the refill is repeated (at most twice).
+  for (int attempt = 0;; ++attempt)
+  {
+    BuildCavityBoundary();
+    if (!CheckSurfaceInsideCavity() || !AddSurfaceOrStack(attempt))
+    {
+      return false;
+    }
+    AddHolePoints();
+    if (!Refill())
+    {
+      return false;
+    }
+    // Slivers made of kept nodes only: grow the cavity there.
+    if (attempt == 2 || !GrowAtSlivers())
+    {
+      break;
+    }
+  }
+  out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
+  Lap(out.Seconds.Cavity);
+  Assemble();
+  Lap(out.Seconds.Assembly);
+  return true;
+}
+
+// ---- Validation.
+bool CavityRun::Validate()
+{
   if (nV < 4 || nT == 0)
   {
     error = "the volume mesh is empty (no tetrahedra).";
@@ -200,7 +344,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     error = "the volume mesh has a non-finite coordinate.";
     return false;
   }
-  std::vector<double> S(surfacePoints, surfacePoints + 3 * nSurfacePoints);
+  S.assign(surfacePoints, surfacePoints + 3 * nSurfacePoints);
   if (!Finite(S))
   {
     error = "the feature surface has a non-finite coordinate.";
@@ -237,9 +381,13 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     }
   }
 
-  // ---- Prism layer options (checked before any work).
-  const bool layers = options.Layers.NumberOfLayers != 0;
-  double stackHeight = 0.0; // z_N: added to the removal radius
+  return true;
+}
+
+// ---- Prism layer options (checked before any work).
+bool CavityRun::CheckLayerOptions()
+{
+  layers = options.Layers.NumberOfLayers != 0;
   if (layers)
   {
     std::vector<double> z;
@@ -251,75 +399,18 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     }
     stackHeight = z.back();
   }
+  return true;
+}
 
-  // ---- Longest edge at each node of V and of S.
-  // (and the mean length of the edges of the tetrahedra at each node of V,
-  // the size the refill grades to at the cavity's boundary)
-  const std::vector<double> lv = LongestEdgeAtNodes(V.Points.data(), nV, V.Tetrahedra.data(), nT);
-  std::vector<double> ls(nSurfacePoints, 0.0), meanV(nV, 0.0);
-  // The mean edge at a node, for the nodes flagged in `need` that do not
-  // have it yet (only the cavity's boundary nodes need it: computed there,
-  // the cost follows the cavity). It is summed exactly (fixed point, scaled
-  // by the node's longest edge) so that it does not depend on the order of
-  // the cells: a rank that holds the cells around a node in another order
-  // gets the same bits.
-  std::vector<char> hasMean(nV, 0);
-  auto computeMeans = [&](std::vector<char>& need) {
-    bool any = false;
-    for (std::size_t v = 0; v < nV; ++v)
-    {
-      need[v] = need[v] && !hasMean[v];
-      any = any || need[v];
-    }
-    if (!any)
-    {
-      return;
-    }
-    std::vector<__int128> sum(nV, 0);
-    std::vector<std::int64_t> count(nV, 0);
-    auto scale = [&](std::int64_t v) {
-      int e = 0;
-      std::frexp(lv[v], &e);
-      return 100 - e; // every edge at v times 2^scale is below 2^100
-    };
-    for (std::size_t t = 0; t < nT; ++t)
-    {
-      const std::int64_t* v = &V.Tetrahedra[4 * t];
-      if (!(need[v[0]] || need[v[1]] || need[v[2]] || need[v[3]]))
-      {
-        continue;
-      }
-      for (int a = 0; a < 4; ++a)
-      {
-        for (int b = a + 1; b < 4; ++b)
-        {
-          if (!need[v[a]] && !need[v[b]])
-          {
-            continue;
-          }
-          const double l = Distance(&V.Points[3 * v[a]], &V.Points[3 * v[b]]);
-          for (const std::int64_t n : { v[a], v[b] })
-          {
-            if (need[n])
-            {
-              sum[n] += static_cast<__int128>(std::ldexp(l, scale(n)));
-              ++count[n];
-            }
-          }
-        }
-      }
-    }
-    for (std::size_t v = 0; v < nV; ++v)
-    {
-      if (need[v])
-      {
-        meanV[v] = count[v] > 0
-          ? std::ldexp(static_cast<double>(sum[v]), -scale(v)) / static_cast<double>(count[v])
-          : lv[v];
-        hasMean[v] = 1;
-      }
-    }
-  };
+// ---- Longest edge at each node of V and of S (and room for the mean length
+// of the edges of the tetrahedra at each node of V, the size the refill
+// grades to at the cavity's boundary: ComputeMeans).
+void CavityRun::ComputeSizes()
+{
+  lv = LongestEdgeAtNodes(V.Points.data(), nV, V.Tetrahedra.data(), nT);
+  ls.assign(nSurfacePoints, 0.0);
+  meanV.assign(nV, 0.0);
+  hasMean.assign(nV, 0);
   for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
   {
     const std::int64_t* f = surfaceTriangles + 3 * t;
@@ -330,9 +421,76 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       ls[f[(k + 1) % 3]] = std::max(ls[f[(k + 1) % 3]], l);
     }
   }
+}
 
-  // ---- Face adjacency of V; its boundary faces.
-  std::vector<std::int64_t> neighbor(4 * nT, -1);
+// The mean edge at a node, for the nodes flagged in `need` that do not
+// have it yet (only the cavity's boundary nodes need it: computed there,
+// the cost follows the cavity). It is summed exactly (fixed point, scaled
+// by the node's longest edge) so that it does not depend on the order of
+// the cells: a rank that holds the cells around a node in another order
+// gets the same bits.
+void CavityRun::ComputeMeans(std::vector<char>& need)
+{
+  bool any = false;
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    need[v] = need[v] && !hasMean[v];
+    any = any || need[v];
+  }
+  if (!any)
+  {
+    return;
+  }
+  std::vector<__int128> sum(nV, 0);
+  std::vector<std::int64_t> count(nV, 0);
+  auto scale = [&](std::int64_t v) {
+    int e = 0;
+    std::frexp(lv[v], &e);
+    return 100 - e; // every edge at v times 2^scale is below 2^100
+  };
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const std::int64_t* v = &V.Tetrahedra[4 * t];
+    if (!(need[v[0]] || need[v[1]] || need[v[2]] || need[v[3]]))
+    {
+      continue;
+    }
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = a + 1; b < 4; ++b)
+      {
+        if (!need[v[a]] && !need[v[b]])
+        {
+          continue;
+        }
+        const double l = Distance(&V.Points[3 * v[a]], &V.Points[3 * v[b]]);
+        for (const std::int64_t n : { v[a], v[b] })
+        {
+          if (need[n])
+          {
+            sum[n] += static_cast<__int128>(std::ldexp(l, scale(n)));
+            ++count[n];
+          }
+        }
+      }
+    }
+  }
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    if (need[v])
+    {
+      meanV[v] = count[v] > 0
+        ? std::ldexp(static_cast<double>(sum[v]), -scale(v)) / static_cast<double>(count[v])
+        : lv[v];
+      hasMean[v] = 1;
+    }
+  }
+}
+
+// ---- Face adjacency of V; its boundary faces (the domain boundary's tree).
+bool CavityRun::BuildAdjacency()
+{
+  neighbor.assign(4 * nT, -1);
   {
     // Faces bucketed by their smallest node (a counting sort, linear), then
     // matched within each small bucket by their other two nodes.
@@ -407,8 +565,6 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       }
     }
   }
-  std::vector<Triangle> boundary;
-  std::vector<char> onBoundary(nV, 0);
   for (std::size_t t = 0; t < nT; ++t)
   {
     for (int f = 0; f < 4; ++f)
@@ -418,7 +574,6 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
         const std::int64_t* v = &V.Tetrahedra[4 * t];
         const std::int64_t a = v[FaceVertex[f][0]], b = v[FaceVertex[f][1]], c = v[FaceVertex[f][2]];
         boundary.emplace_back(P(&V.Points[3 * a]), P(&V.Points[3 * b]), P(&V.Points[3 * c]));
-        onBoundary[a] = onBoundary[b] = onBoundary[c] = 1;
       }
     }
   }
@@ -436,14 +591,15 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       boundary.emplace_back(P(&b[k]), P(&b[k + 3]), P(&b[k + 6]));
     }
   }
-  Tree tree(boundary.begin(), boundary.end());
+  tree.rebuild(boundary.begin(), boundary.end());
   tree.accelerate_distance_queries();
+  return true;
+}
 
-  lap(out.Seconds.Setup);
-
-  // ---- The region of the locked cells: the faces of its boundary (faces
-  // listed once), fanned into triangles.
-  std::vector<Triangle> lockedFaces;
+// ---- The region of the locked cells: the faces of its boundary (faces
+// listed once), fanned into triangles.
+bool CavityRun::BuildLockedRegion()
+{
   if (!options.LockedCellFaces.empty())
   {
     const std::vector<std::int64_t>& F = options.LockedCellFaces;
@@ -497,17 +653,21 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       i = j;
     }
   }
-  Tree lockedTree(lockedFaces.begin(), lockedFaces.end());
+  lockedTree.rebuild(lockedFaces.begin(), lockedFaces.end());
   if (!lockedFaces.empty())
   {
     lockedTree.accelerate_distance_queries();
   }
+  return true;
+}
 
+bool CavityRun::TrimSurface()
+{
   // With prism layers the stack's closure reaches about half an edge beyond
   // S's border (the pyramids' apices): S is trimmed one edge further back,
   // so that a full edge of room stays between the closure and the kept
   // faces (with half an edge TetGen had to build slivers against both).
-  const double margin = options.BoundaryMargin + (layers ? 1.0 : 0.0);
+  margin = options.BoundaryMargin + (layers ? 1.0 : 0.0);
   // ---- Trim S: inside V and at least BoundaryMargin * max(l_s, l_b) from
   // its boundary, l_b the longest edge of the nearest boundary face (the kept
   // mesh's size there); outside the locked cells and at least
@@ -556,8 +716,6 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     return false;
   }
   std::vector<std::int64_t> sIndex(nSurfacePoints, -1);
-  std::vector<double> sPoints, sSize;
-  std::vector<std::int64_t> sTris;
   std::vector<char> keepTriangle(nSurfaceTriangles, 0);
   for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
   {
@@ -601,7 +759,12 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
             "edge lengths of them).";
     return false;
   }
-  // S must not cross itself (a manifold S is checked with CGAL; TetGen catches the rest).
+  return true;
+}
+
+// S must not cross itself (a manifold S is checked with CGAL; TetGen catches the rest).
+bool CavityRun::CheckSelfIntersection()
+{
   {
     namespace PMP = CGAL::Polygon_mesh_processing;
     std::vector<Point> pts;
@@ -628,8 +791,12 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       }
     }
   }
+  return true;
+}
 
-  // ---- Removal: V_j within RemovalFactor * max(l_si, l_vj) of a visible S_i.
+// ---- Removal: V_j within RemovalFactor * max(l_si, l_vj) of a visible S_i.
+bool CavityRun::MarkRemovedNodes()
+{
   std::vector<IndexedPoint> indexed;
   const std::size_t nS = sSize.size();
   double lsMax = 0.0;
@@ -640,7 +807,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   }
   KdTree kd(indexed.begin(), indexed.end());
   kd.build();
-  std::vector<char> removed(nV, 0);
+  removed.assign(nV, 0);
   std::vector<IndexedPoint> found;
   const double rf = options.RemovalFactor;
   if (!options.LockedNodes.empty() && options.LockedNodes.size() != nV)
@@ -649,7 +816,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       std::to_string(nV) + " nodes.";
     return false;
   }
-  const bool givenCavity = !options.CavityCells.empty();
+  givenCavity = !options.CavityCells.empty();
   if (givenCavity && options.CavityCells.size() != nT)
   {
     error = "CavityCells has " + std::to_string(options.CavityCells.size()) + " entries for " +
@@ -694,17 +861,13 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       break;
     }
   }
+  return true;
+}
 
-  if (removedOnly)
-  {
-    removedOnly->assign(removed.begin(), removed.end());
-    return true;
-  }
-
-  lap(out.Seconds.Removal);
-
-  // ---- The cavity: tetrahedra touching removed nodes (or the given one).
-  std::vector<char> cavity(nT, 0);
+// ---- The cavity: tetrahedra touching removed nodes (or the given one).
+bool CavityRun::MarkCavity()
+{
+  cavity.assign(nT, 0);
   for (std::size_t t = 0; t < nT; ++t)
   {
     if (givenCavity)
@@ -723,40 +886,31 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     error = "no node of the volume mesh lies near the feature surface: nothing to remesh.";
     return false;
   }
-  // Nodes of the cavity's boundary faces stay; the other nodes of cavity cells
-  // go. TetGen cannot place a point on a kept face (-Y), so where the
-  // cavity's boundary has a pocket of nearly coplanar kept nodes it must make
-  // a sliver from them: the kept cells at such slivers join the cavity and
-  // the refill is repeated (at most twice).
-  std::vector<std::int64_t> plcIndex;
-  PiecewiseLinearComplex plc;
-  std::vector<double> nodeSize;
-  std::int64_t nBoundaryNodes = 0;
-  TetGenResult refill;
-  PrismStack stack;                      // the layer stack (options.Layers on)
-  std::vector<std::int64_t> stackOuter;  // its outer nodes (stack ids), in the PLC after the cavity's
-  std::vector<double> stackOuterSize;
-  for (int attempt = 0;; ++attempt)
+  return true;
+}
+
+// The refill's complex, first the cavity's boundary: its faces (kept faces
+// marker 1, domain boundary 3) and nodes with their mean edge as size, in a
+// canonical order; the kept regions next to the cavity (for hole points).
+void CavityRun::BuildCavityBoundary()
+{
+  std::vector<char> need(nV, 0);
+  for (std::size_t t = 0; t < nT; ++t)
   {
-  {
-    std::vector<char> need(nV, 0);
-    for (std::size_t t = 0; t < nT; ++t)
+    if (cavity[t])
     {
-      if (cavity[t])
+      for (int k = 0; k < 4; ++k)
       {
-        for (int k = 0; k < 4; ++k)
-        {
-          need[V.Tetrahedra[4 * t + k]] = 1;
-        }
+        need[V.Tetrahedra[4 * t + k]] = 1;
       }
     }
-    computeMeans(need);
   }
+  ComputeMeans(need);
   plcIndex.assign(nV, -1);
   plc = PiecewiseLinearComplex();
   nodeSize.clear();
-  UnionFind kept(nT);
-  std::vector<char> touchesCavity(nT, 0);
+  kept = UnionFind(nT);
+  touchesCavity.assign(nT, 0);
   for (std::size_t t = 0; t < nT; ++t)
   {
     for (int f = 0; f < 4; ++f)
@@ -830,8 +984,12 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       plc.TriangleMarkers[t] = static_cast<int>(tris[t][3]);
     }
   }
-  // ---- S must lie inside the cavity: no S triangle may cross its boundary.
-  const std::size_t nShell = plc.TriangleMarkers.size();
+}
+
+// ---- S must lie inside the cavity: no S triangle may cross its boundary.
+bool CavityRun::CheckSurfaceInsideCavity()
+{
+  nShell = plc.TriangleMarkers.size();
   {
     std::vector<Triangle> shell;
     for (std::size_t t = 0; t < nShell; ++t)
@@ -852,6 +1010,13 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       }
     }
   }
+  return true;
+}
+
+// S as internal facets (marker 2), or with prism layers the stack's outer
+// surface (marker 4; the stack is built in the first attempt).
+bool CavityRun::AddSurfaceOrStack(int attempt)
+{
   if (!layers)
   {
     // S: internal facets, marker 2.
@@ -879,10 +1044,10 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
         }
       }
       std::string why;
-      lap(out.Seconds.Cavity);
+      Lap(out.Seconds.Cavity);
       const bool built = BuildPrismLayers(sPoints.data(), sSize.size(), sTris.data(), sTris.size() / 3,
         obstacles.data(), nShell, options.Layers, stack, why);
-      lap(out.Seconds.Layers);
+      Lap(out.Seconds.Layers);
       if (!built)
       {
         error = "prism layers: " + why;
@@ -923,6 +1088,11 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     }
     plc.TriangleMarkers.insert(plc.TriangleMarkers.end(), stack.OuterTriangles.size() / 3, 4);
   }
+  return true;
+}
+
+void CavityRun::AddHolePoints()
+{
   // One hole point per kept region next to the cavity.
   std::vector<char> holeDone(nT, 0);
   for (std::size_t t = 0; t < nT; ++t)
@@ -956,26 +1126,31 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     std::memcpy(plc.Holes.data(), holes.data(), plc.Holes.size() * sizeof(double));
   }
   plc.PointSizes = nodeSize;
+}
 
-  // ---- Refill.
-  lap(out.Seconds.Cavity);
+// ---- Refill (TetGen); one attempt.
+bool CavityRun::Refill()
+{
+  Lap(out.Seconds.Cavity);
   ++out.RefillAttempts;
   if (!options.RefillFilesPrefix.empty() && !WriteTetGenFiles(plc, options.RefillFilesPrefix, error))
   {
     return false;
   }
   const bool refilled = TetGenMeshComplex(plc, options.Quality, refill, error);
-  lap(out.Seconds.Refill);
+  Lap(out.Seconds.Refill);
   if (!refilled)
   {
     error = "refilling the cavity: " + error;
     return false;
   }
-  // Slivers made of kept nodes only: grow the cavity there.
-  if (attempt == 2)
-  {
-    break;
-  }
+  return true;
+}
+
+// Slivers of kept nodes only in the refill: the kept cells at them join the
+// cavity. True when the cavity grew.
+bool CavityRun::GrowAtSlivers()
+{
   const double limit = std::max(0.0, options.Quality.MinDihedralAngle - 2.0);
   std::vector<std::int64_t> grow;
   for (std::size_t t = 0; t < refill.Mesh.NumberOfTetrahedra(); ++t)
@@ -1006,7 +1181,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
   }
   if (grow.empty())
   {
-    break;
+    return false;
   }
   std::vector<char> atSliver(nV, 0);
   std::vector<std::int64_t> nodeOfPlc(nBoundaryNodes, -1);
@@ -1039,17 +1214,13 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       }
     }
   }
-  if (added == 0)
-  {
-    break;
-  }
-  }
-  out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
+  return added > 0;
+}
+
+// ---- Output: V's points that are still used, then S's and TetGen's new points.
+void CavityRun::Assemble()
+{
   const std::size_t nRefillPoints = refill.Mesh.NumberOfPoints();
-
-  lap(out.Seconds.Cavity);
-
-  // ---- Output: V's points that are still used, then S's and TetGen's new points.
   std::vector<std::int64_t> outIndex(nV, -1);
   for (std::size_t t = 0; t < nT; ++t)
   {
@@ -1164,8 +1335,7 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
     // S: the faces between the two sides' innermost prisms (with one side,
     // between the prisms and TetGen's tetrahedra).
     map(out.Surface, sTris);
-    lap(out.Seconds.Assembly);
-    return true;
+    return;
   }
   for (std::size_t f = 0; f < refill.FaceMarkers.size(); ++f)
   {
@@ -1177,17 +1347,16 @@ bool Run(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoin
       }
     }
   }
-  lap(out.Seconds.Assembly);
-  return true;
 }
+
 }
 
 bool RemeshLocalCavity(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
   const std::int64_t* surfaceTriangles, std::size_t nSurfaceTriangles, const CavityOptions& options,
   CavityRemesh& out, std::string& error)
 {
-  return Run(V, surfacePoints, nSurfacePoints, surfaceTriangles, nSurfaceTriangles, options, out,
-    nullptr, error);
+  return CavityRun(V, surfacePoints, nSurfacePoints, surfaceTriangles, nSurfaceTriangles, options, out, error)
+    .Execute(nullptr);
 }
 
 bool ComputeRemovedNodes(const TetMesh& V, const double* surfacePoints, std::size_t nSurfacePoints,
@@ -1196,7 +1365,7 @@ bool ComputeRemovedNodes(const TetMesh& V, const double* surfacePoints, std::siz
 {
   CavityRemesh unused;
   removed.clear();
-  return Run(V, surfacePoints, nSurfacePoints, surfaceTriangles, nSurfaceTriangles, options, unused,
-    &removed, error);
+  return CavityRun(V, surfacePoints, nSurfacePoints, surfaceTriangles, nSurfaceTriangles, options, unused, error)
+    .Execute(&removed);
 }
 }

@@ -34,6 +34,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <iterator>
 #include <array>
 #include <limits>
 #include <chrono>
@@ -684,6 +685,31 @@ int vtkAdaptToShocks::ExecuteData(
   remesh->SetSurfaceSizeFactor(this->SurfaceSizeFactor);
   remesh->SetLayerType(this->LayerType);
   remesh->SetNumberOfLayers(this->NumberOfLayers);
+  // The prism stack spans the captured shock: half its thickness per side
+  // (QuadricFit's ShockThickness, the median over the surfaces; the fields
+  // are on rank 0 under MPI), unless TotalThickness is given.
+  double shockThickness = 0.0;
+  {
+    const double lowest = -std::numeric_limits<double>::max();
+    std::vector<double> widths(fitted.size(), lowest);
+    for (std::size_t i = 0; i < fitted.size(); ++i)
+    {
+      vtkDataArray* t = fitted[i]->GetFieldData()->GetArray("ShockThickness");
+      widths[i] = t && t->GetNumberOfTuples() > 0 ? t->GetComponent(0, 0) : lowest;
+    }
+    if (!widths.empty())
+    {
+      vtkARMeshKernels::AllReduceMax(widths.data(), static_cast<int>(widths.size()));
+    }
+    std::vector<double> positive;
+    std::copy_if(widths.begin(), widths.end(), std::back_inserter(positive), [](double w) { return w > 0.0; });
+    if (!positive.empty())
+    {
+      std::sort(positive.begin(), positive.end());
+      shockThickness = positive[positive.size() / 2];
+    }
+  }
+  remesh->SetTotalThickness(this->TotalThickness > 0.0 ? this->TotalThickness : 0.5 * shockThickness);
   remesh->SetRemovalFactor(this->RemovalFactor);
   remesh->SetInterpolateFields(this->InterpolateFields);
   if (!alone)
@@ -741,6 +767,7 @@ int vtkAdaptToShocks::ExecuteData(
   vtkFieldData* fd = outVolume->GetFieldData();
   const double count = static_cast<double>(fitted.size());
   fd->AddArray(vtkARMeshKernels::FieldArray("NumberOfSurfaces", &count, 1));
+  fd->AddArray(vtkARMeshKernels::FieldArray("ShockThickness", &shockThickness, 1));
   fd->AddArray(templates);
   fd->AddArray(members);
   // Per cluster that got a surface, before the crossing check: its shock
@@ -781,6 +808,7 @@ void vtkAdaptToShocks::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SurfaceSizeFactor: " << this->SurfaceSizeFactor << "\n";
   os << indent << "LayerType: " << this->LayerType << "\n";
   os << indent << "NumberOfLayers: " << this->NumberOfLayers << "\n";
+  os << indent << "TotalThickness: " << this->TotalThickness << "\n";
   os << indent << "RemovalFactor: " << this->RemovalFactor << "\n";
   os << indent << "InterpolateFields: " << this->InterpolateFields << "\n";
 }

@@ -115,6 +115,14 @@ public:
   vtkGetMacro(LayerType, int);
   vtkSetMacro(NumberOfLayers, int);
   vtkGetMacro(NumberOfLayers, int);
+  /// With LayerType prisms: the stack's height per side. 0 (the default):
+  /// half the captured shock's thickness, so that the two sides together
+  /// span it (QuadricFit's ShockThickness, the 10-90 % width of p's rise
+  /// along the centring lines; the median over the surfaces, in the output's
+  /// field data ShockThickness); where no surface measured it, EmbeddedRemesh's
+  /// default (half a surface edge). Checked by EmbeddedRemesh.
+  vtkSetMacro(TotalThickness, double);
+  vtkGetMacro(TotalThickness, double);
   vtkSetMacro(RemovalFactor, double);
   vtkGetMacro(RemovalFactor, double);
   vtkSetMacro(InterpolateFields, bool);
@@ -148,6 +156,7 @@ private:
   double SurfaceSizeFactor = 0.0;
   int LayerType = 0;
   int NumberOfLayers = 5;
+  double TotalThickness = 0.0;
   double RemovalFactor = 3.0;
   bool InterpolateFields = true;
 };

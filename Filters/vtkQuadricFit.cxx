@@ -302,6 +302,52 @@ bool HalfJumpOffset(const double* v, double reach, double& offset)
   return found;
 }
 
+/// The 10-90 % width of the rise through the half-jump at `offset` on a
+/// centring line (as HalfJumpOffset reads it, in units of the line's
+/// LocalSize): the 10 % and 90 % crossings of the valid samples nearest to
+/// the half-jump on either side. False where either is missing.
+bool RiseWidth(const double* v, double reach, double offset, double& width)
+{
+  const int K = CentringSamples, n = 2 * K + 1;
+  int lo = K, hi = K;
+  while (lo > 0 && std::isfinite(v[lo - 1]))
+  {
+    --lo;
+  }
+  while (hi < n - 1 && std::isfinite(v[hi + 1]))
+  {
+    ++hi;
+  }
+  const double vmin = *std::min_element(v + lo, v + hi + 1);
+  const double vmax = *std::max_element(v + lo, v + hi + 1);
+  double near[2] = { 0.0, 0.0 };
+  for (int q = 0; q < 2; ++q)
+  {
+    const double level = vmin + (q == 0 ? 0.1 : 0.9) * (vmax - vmin);
+    bool found = false;
+    for (int k = lo; k < hi; ++k)
+    {
+      const double a = v[k] - level, b = v[k + 1] - level;
+      if (a * b > 0.0 || a == b)
+      {
+        continue;
+      }
+      const double s = (k - K + a / (a - b)) * reach / K;
+      if (!found || std::abs(s - offset) < std::abs(near[q] - offset))
+      {
+        near[q] = s;
+        found = true;
+      }
+    }
+    if (!found)
+    {
+      return false;
+    }
+  }
+  width = std::abs(near[1] - near[0]);
+  return true;
+}
+
 /**
  * Signed distance values at the points of a triangle mesh, for cutting it at
  * the zero level, from `phi` (1-Lipschitz, as a signed distance is; slow far
@@ -756,7 +802,7 @@ int vtkQuadricFit::ExecuteData(
 
   // ---- Shock centring: the points moved along the fit's normal to the
   // half-jump of the centring array, and fitted again.
-  double centred = 0.0, centringShift = 0.0;
+  double centred = 0.0, centringShift = 0.0, shockThickness = 0.0;
   std::string centringUsed;
   if (this->ShockCentring && hasDomain)
   {
@@ -889,7 +935,7 @@ int vtkQuadricFit::ExecuteData(
     const std::vector<double> values = exchange(lines, centringUsed, cellData);
     if (!values.empty())
     {
-      std::vector<double> moved, movedWeights, shifts;
+      std::vector<double> moved, movedWeights, shifts, widths;
       for (std::size_t j = 0; j < n; ++j)
       {
         double offset = 0.0;
@@ -906,6 +952,11 @@ int vtkQuadricFit::ExecuteData(
         }
         movedWeights.push_back(w[j]);
         shifts.push_back(std::abs(offset));
+        double width = 0.0;
+        if (RiseWidth(&values[j * samples], CentringReach, offset, width))
+        {
+          widths.push_back(width * scale[j]);
+        }
       }
       const std::size_t count = movedWeights.size();
       const std::array<double, 4> firstResiduals = { residuals[0], residuals[1], residuals[2], residuals[3] };
@@ -917,6 +968,7 @@ int vtkQuadricFit::ExecuteData(
         fit = refit;
         centred = static_cast<double>(count);
         centringShift = Median(shifts);
+        shockThickness = widths.empty() ? 0.0 : Median(widths);
       }
       else
       {
@@ -1141,6 +1193,7 @@ int vtkQuadricFit::ExecuteData(
   fd->AddArray(vtkARMeshKernels::FieldArray("NumberOfFitPoints", &count, 1));
   fd->AddArray(vtkARMeshKernels::FieldArray("CentredPoints", &centred, 1));
   fd->AddArray(vtkARMeshKernels::FieldArray("CentringShift", &centringShift, 1));
+  fd->AddArray(vtkARMeshKernels::FieldArray("ShockThickness", &shockThickness, 1));
   vtkNew<vtkStringArray> centringName;
   centringName->SetName("CentringArrayUsed");
   centringName->InsertNextValue(centred > 0.0 ? centringUsed : "none");

@@ -197,7 +197,9 @@ public:
    * lie up to 1.3 degrees off theory; the half-jump points lie on the
    * solution's own shock (see the README's validation table). Field data
    * CentredPoints (the number moved and fitted), CentringArrayUsed and
-   * CentringShift (the median move in LocalSize). Fewer than half the points
+   * CentringShift (the median move in LocalSize), ShockThickness (the
+   * median 10-90 % width of the rise along the centred lines, length units:
+   * the captured shock's thickness; 0 without centring). Fewer than half the points
    * centred: the first fit is kept, with a warning.
    */
   vtkSetMacro(ShockCentring, bool);

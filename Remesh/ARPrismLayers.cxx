@@ -146,6 +146,11 @@ bool PrismLayerDistances(const PrismLayerOptions& o, std::vector<double>& z, std
     error = "MaxHeightGradient must be a positive number (got " + Num(o.MaxHeightGradient) + ").";
     return false;
   }
+  if (!(o.BorderHeight > 0.0) || !std::isfinite(o.BorderHeight))
+  {
+    error = "BorderHeight must be a positive number (got " + Num(o.BorderHeight) + ").";
+    return false;
+  }
   if (!(o.GapFraction > 0.0 && o.GapFraction <= 0.5))
   {
     error = "GapFraction must lie in (0, 0.5] (got " + Num(o.GapFraction) + ").";
@@ -477,6 +482,33 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
       H[2 * v + s] = std::min(Z, gap * freeDistance(X[v], d, static_cast<std::int64_t>(v), -1));
     }
   }
+  {
+    // The taper: border columns no higher than BorderHeight x their border
+    // edges (the mean of the one or more at the point).
+    std::vector<double> borderLength(nS, 0.0);
+    std::vector<int> borderCount(nS, 0);
+    for (const std::int64_t he : borderEdges)
+    {
+      const std::int64_t a = tail(he), b = head(he);
+      const double l = (X[b] - X[a]).norm();
+      for (const std::int64_t v : { a, b })
+      {
+        borderLength[v] += l;
+        ++borderCount[v];
+      }
+    }
+    for (std::size_t v = 0; v < nS; ++v)
+    {
+      if (borderCount[v] > 0 && rank[v] >= 0)
+      {
+        const double cap = o.BorderHeight * borderLength[v] / borderCount[v];
+        for (int s = 0; s < sides; ++s)
+        {
+          H[2 * v + s] = std::min(H[2 * v + s], cap);
+        }
+      }
+    }
+  }
   const double g = o.MaxHeightGradient;
   auto grade = [&]() {
     using Item = std::pair<double, std::int64_t>;
@@ -562,7 +594,17 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
       meanEdge += l / static_cast<double>(nB);
     }
     const double span = requested(hi) - requested(lo);
-    const int m = std::max(1, std::min(hi - lo, static_cast<int>(std::lround(span / meanEdge))));
+    // As many groups as the tallest border column (tapered: BorderHeight)
+    // has border edges of height.
+    double borderSpan = 0.0;
+    for (const std::int64_t he : borderEdges)
+    {
+      for (const std::int64_t v : { tail(he), head(he) })
+      {
+        borderSpan = std::max(borderSpan, height(v, hi) - height(v, lo));
+      }
+    }
+    const int m = std::max(1, std::min(hi - lo, static_cast<int>(std::lround(borderSpan / meanEdge))));
     for (int g = 1; g < m; ++g)
     {
       const double target = requested(lo) + span * g / m;

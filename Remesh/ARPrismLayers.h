@@ -29,6 +29,8 @@
  *  - a ray along the column against S itself (all pieces, the triangles at
  *    the point skipped): the other side or another piece grows towards this
  *    one, so each takes at most GapFraction of the distance between them;
+ *  - a column on S's open border is at most BorderHeight x the mean length
+ *    of its border edges high (the stack tapers to its closure);
  *  - then the height field is graded, |H_u - H_v| <= MaxHeightGradient *
  *    |x_u - x_v| along S's edges (Dijkstra from the lowest columns; it only
  *    lowers heights), so neighbours do not jump;
@@ -129,6 +131,12 @@ struct PrismLayerOptions
   /// A stack takes at most this fraction of the free distance along its
   /// normals to an obstacle or to S (the other side, other pieces); (0, 0.5].
   double GapFraction = 0.35;
+  /// At S's open border a column is at most this many times the mean length
+  /// of its border edges high (then graded inward by MaxHeightGradient), so a
+  /// stack taller than the border edges tapers to a closure the tetrahedra
+  /// around it can meet at good angles (a stack of one edge closed at full
+  /// height left 1.2-degree tetrahedra beside it on the bundled cone); > 0.
+  double BorderHeight = 0.5;
 };
 
 /**

@@ -471,6 +471,7 @@ TEST(PrismLayers, PlanarSurfaceGetsRightPrismsOfTheRequestedThickness)
   o.NumberOfLayers = 4;
   o.FirstLayerThickness = 0.01;
   o.GrowthRatio = 1.3;
+  o.BorderHeight = 1e9; // full height up to the border (no taper): the thickness everywhere, the closure
   ar::PrismStack stack;
   std::string error;
   ASSERT_TRUE(Build(s, o, stack, error)) << error;
@@ -508,6 +509,7 @@ TEST(PrismLayers, CavityWithLayersOnAPlaneIsAValidHybridMesh)
   o.Layers.NumberOfLayers = 3;
   o.Layers.FirstLayerThickness = 0.01;
   o.Layers.GrowthRatio = 1.2;
+  o.Layers.BorderHeight = 1e9; // no taper: the full stack's closure against TetGen
   ar::CavityRemesh r;
   std::string error;
   ASSERT_TRUE(ar::RemeshLocalCavity(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
@@ -556,6 +558,7 @@ TEST(PrismLayers, OneSidedLayersMeetTetrahedraOnS)
   o.Layers.TotalThickness = 0.03;
   o.Layers.GrowthRatio = 1.5;
   o.Layers.BothSides = false;
+  o.Layers.BorderHeight = 1e9; // no taper
   ar::CavityRemesh r;
   std::string error;
   ASSERT_TRUE(ar::RemeshLocalCavity(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
@@ -575,6 +578,7 @@ TEST(PrismLayers, ConeLayersShrinkWithoutFolding)
   o.NumberOfLayers = 4;
   o.TotalThickness = 0.06;
   o.GrowthRatio = 1.2;
+  o.BorderHeight = 1e9; // no taper: the curvature alone lowers the stack
   ar::PrismStack stack;
   std::string error;
   ASSERT_TRUE(Build(s, o, stack, error)) << error;
@@ -646,6 +650,7 @@ TEST(PrismLayers, CloseParallelSurfacesShrinkTheirFacingLayers)
   o.NumberOfLayers = 3;
   o.TotalThickness = 0.05;
   o.GrowthRatio = 1.25;
+  o.BorderHeight = 1e9; // no taper: the facing sides alone lower the stack
   ar::PrismStack stack;
   std::string error;
   ASSERT_TRUE(Build(s, o, stack, error)) << error;
@@ -686,6 +691,87 @@ TEST(PrismLayers, CloseParallelSurfacesShrinkTheirFacingLayers)
   ExpectValidCavity(cube, r, r.SurfaceTrianglesUsed, 3, true, "parallel planes in the cube", false);
   ExpectMostlyKept(r, s.Triangles.size() / 3, "parallel planes in the cube");
   EXPECT_GT(r.LimitedColumns, 0u);
+}
+
+// A stack twice as high as S's border edges (0.1 per side on edges of 0.05),
+// with the default taper: the border columns are at most BorderHeight x their
+// border edges high, the heights graded inward with MaxHeightGradient, the
+// columns far enough inside at full height, and TetGen's tetrahedra around
+// the tapered closure at least 10 degrees.
+TEST(PrismLayers, StackTallerThanItsBorderEdgesTapersToItsClosure)
+{
+  const ar::TetMesh cube = KuhnCube(12);
+  const Surface s = TiltedPatch();
+  ar::CavityOptions o;
+  o.Layers.NumberOfLayers = 3;
+  o.Layers.TotalThickness = 0.1;
+  o.Layers.GrowthRatio = 1.2;
+  ar::CavityRemesh r;
+  std::string error;
+  ASSERT_TRUE(ar::RemeshLocalCavity(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, r, error)) << error;
+  ExpectValidCavity(cube, r, r.SurfaceTrianglesUsed, 3, true, "tapered stack");
+  const std::size_t nS = s.Points.size() / 3;
+  // The heights from the stack's points: each S point (u, v on the grid)
+  // against its farthest layer point along the normal.
+  const double* n = TiltedNormal.data();
+  std::vector<double> height(2 * nS, 0.0);
+  for (std::size_t i = r.FirstStackPoint + nS; i < r.FirstStackPoint + r.NumberOfStackPoints; ++i)
+  {
+    const double* x = &r.Mesh.Points[3 * i];
+    // nearest S point in the plane of S (the columns stand along n)
+    std::size_t best = 0;
+    double bestD = 1e9;
+    for (std::size_t j = 0; j < nS; ++j)
+    {
+      const double* p = &s.Points[3 * j];
+      const double d[3] = { x[0] - p[0], x[1] - p[1], x[2] - p[2] };
+      const double along = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+      const double across = std::sqrt(std::max(0.0, d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - along * along));
+      if (across < bestD)
+      {
+        bestD = across;
+        best = j;
+      }
+    }
+    if (bestD > 1e-3)
+      continue; // a closure apex, not a layer point
+    const double* p = &s.Points[3 * best];
+    const double along = (x[0] - p[0]) * n[0] + (x[1] - p[1]) * n[1] + (x[2] - p[2]) * n[2];
+    double& h = height[2 * best + (along > 0 ? 0 : 1)];
+    h = std::max(h, std::abs(along));
+  }
+  double borderMax = 0.0, innerMin = 1.0;
+  for (std::size_t j = 0; j < nS; ++j)
+  {
+    const double u = s.Points[3 * j], v = s.Points[3 * j + 1];
+    const double fromBorder = std::min({ u - 0.25, 0.75 - u, v - 0.25, 0.75 - v });
+    for (int side = 0; side < 2; ++side)
+    {
+      if (fromBorder < 1e-9)
+        borderMax = std::max(borderMax, height[2 * j + side]);
+      else if (fromBorder > (0.1 - 0.5 * 0.05) / o.Layers.MaxHeightGradient + 1e-9)
+        innerMin = std::min(innerMin, height[2 * j + side]);
+    }
+  }
+  // (the border edges along u are 0.05 sqrt(1.04) long in 3-D: S is tilted)
+  EXPECT_LE(borderMax, 0.5 * 0.05 * std::sqrt(1.04) * (1 + 1e-9)) << "the border columns are tapered to half their edge";
+  EXPECT_NEAR(innerMin, 0.1, 1e-9) << "the columns inside are at the full height";
+  EXPECT_GT(r.LimitedColumns, 0u);
+  double worst = 180.0;
+  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
+  {
+    if (r.SourceCell[t] >= 0 || r.TetrahedronLayer[t] >= 0)
+      continue; // kept, or a closure tetrahedron (a layer cell)
+    const std::int64_t* q = &r.Mesh.Tetrahedra[4 * t];
+    double angles[6];
+    ar::TetDihedralAngles(&r.Mesh.Points[3 * q[0]], &r.Mesh.Points[3 * q[1]], &r.Mesh.Points[3 * q[2]],
+      &r.Mesh.Points[3 * q[3]], angles);
+    worst = std::min(worst, *std::min_element(angles, angles + 6));
+  }
+  std::printf("tapered stack 2 edges high: border columns <= %.4f, inner >= %.4f, TetGen's tetrahedra >= %.2f deg\n",
+    borderMax, innerMin, worst);
+  EXPECT_GE(worst, 10.0);
 }
 
 TEST(PrismLayers, SurfaceTrimmedAtTheDomainBoundaryGetsAClosedStack)

@@ -22,6 +22,10 @@ property set.
   the exact one and one cell of its Mn = 1 plane, reaching all six faces;
   the mesh refined (size ratio <= 1/3), new tetrahedra >= 10 degrees, valid
   (artest.check_valid_mesh).
+- Prism layers sized from the shock: the stack spans the captured shock's
+  thickness (QuadricFit's ShockThickness, within a quarter of a cell of the
+  analytic profile's 10-90 % width), the first layer a fraction of the input's size,
+  new tetrahedra >= 10 degrees (the analytic shock and the cone).
 - Bad and borderline input, each an error naming the cause and the input
   passed through: a uniform flow (no shock), no flow arrays, Mode 3,
   MinimumClusterFraction 0.
@@ -173,6 +177,29 @@ check(f(o6, "SurfaceSizeRatio") <= 1.0 / 3.0 and f(o6, "MinDihedralAngleNew") >=
       "cut by every boundary: size ratio %.2f, new tetrahedra >= %.1f deg"
       % (f(o6, "SurfaceSizeRatio"), f(o6, "MinDihedralAngleNew")))
 artest.check_valid_mesh("cut by every boundary", cube, o6)
+
+# ---- Prism layers sized from the shock itself: on the analytic shock p
+# rises as tanh(d / delta), whose 10-90 % width is 2 atanh(0.8) delta = 0.137;
+# the measured ShockThickness within a quarter of the input's cell at S (0.11
+# here: the mesh's linear interpolation of the profile over cells that size
+# widens it, to 0.159), the stack half of it per side (spanning the shock), the
+# first layer a fraction of the input's cell size, every new tetrahedron at
+# least 10 degrees, and the mesh valid. On the OpenFOAM cone, the same rule
+# and the same angle bound.
+exact_width = 2.0 * np.arctanh(0.8) * shock.delta
+for label, source, reference in (("analytic shock", turned, cube), ("cone", cone, src)):
+    lay = artest.fetch(AdaptToShocks(Input=source, LayerType=1))
+    width, stack = f(lay, "ShockThickness"), f(lay, "LayerStackHeight")
+    good = width > 0 and abs(stack - 0.5 * width) <= 1e-12 * width and f(lay, "MinDihedralAngleNew") >= 10.0 \
+        and f(lay, "Prisms") > 0 and f(lay, "FirstLayerThicknessUsed") < 0.3 * f(lay, "InputSizeAtSurface")
+    if label == "analytic shock":
+        good = good and abs(width - exact_width) <= 0.25 * f(lay, "InputSizeAtSurface")
+    check(good, "%s, prism layers: the shock measured %.4f thick%s, the stack %.4f per side, the first layer %.4f "
+          "(%.2f of the input's size at S), %d prisms, new tetrahedra >= %.1f deg"
+          % (label, width, " (exact 10-90 %%: %.4f)" % exact_width if label == "analytic shock" else "", stack,
+             f(lay, "FirstLayerThicknessUsed"), f(lay, "FirstLayerThicknessUsed") / f(lay, "InputSizeAtSurface"),
+             f(lay, "Prisms"), f(lay, "MinDihedralAngleNew")))
+    artest.check_valid_mesh(label + ", prism layers", reference, lay)
 
 
 # ---- Bad and borderline input.

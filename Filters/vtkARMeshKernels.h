@@ -139,8 +139,9 @@ public:
    * Average of per-cell values at the points: each cell for which
    * `cellFn(c, values, weight)` returns true adds weight*values to its points.
    * Ghost cells take part (they complete the stencils of partition-boundary
-   * points). Points no cell reaches get 0. `out` gets npts*nComp values.
-   * Returns false if aborted.
+   * points). Points no cell reaches get 0. `out` gets npts*nComp values,
+   * each point's sum taken over its cells in ascending order, so the result
+   * does not depend on the threads. Returns false if aborted.
    */
   template <typename CellFn>
   static bool CellsToPoints(const MeshView& mesh, int nComp, CellFn&& cellFn,
@@ -218,20 +219,22 @@ template <typename CellFn>
 bool vtkARMeshKernels::CellsToPoints(const MeshView& mesh, int nComp, CellFn&& cellFn,
   std::vector<double>& out, vtkAlgorithm* abortSource)
 {
+  // Each cell's weighted values once (threaded over cells), then each
+  // point's sum over its cells in ascending cell order (threaded over
+  // points). No sum depends on how the cells were split among threads, so a
+  // run is bit for bit reproducible (thread-local accumulators, summed over
+  // the threads' ranges, gave NormalMach different in 4,229 of 15,746 points
+  // of the bundled cone from one run to the next).
   const vtkIdType npts = mesh.NumberOfPoints;
+  const vtkIdType ncells = mesh.NumberOfCells;
   const int stride = nComp + 1;
-  vtkSMPThreadLocal<std::vector<double>> local;
+  std::vector<double> weighted(static_cast<size_t>(ncells) * stride, 0.0);
   std::atomic<bool> aborted(false);
-  vtkSMPTools::For(0, mesh.NumberOfCells, [&](vtkIdType begin, vtkIdType end) {
+  vtkSMPTools::For(0, ncells, [&](vtkIdType begin, vtkIdType end) {
     if (aborted || Aborted(abortSource))
     {
       aborted = true;
       return;
-    }
-    std::vector<double>& acc = local.Local();
-    if (acc.empty())
-    {
-      acc.assign(static_cast<size_t>(npts) * stride, 0.0);
     }
     double values[16];
     std::vector<double> big(nComp > 16 ? nComp : 0);
@@ -243,29 +246,48 @@ bool vtkARMeshKernels::CellsToPoints(const MeshView& mesh, int nComp, CellFn&& c
       {
         continue;
       }
-      const vtkIdType* ids = mesh.CellPoints(c);
-      const int n = mesh.CellSize(c);
-      for (int a = 0; a < n; ++a)
+      double* dst = &weighted[static_cast<size_t>(c) * stride];
+      for (int k = 0; k < nComp; ++k)
       {
-        double* dst = &acc[static_cast<size_t>(ids[a]) * stride];
-        for (int k = 0; k < nComp; ++k)
-        {
-          dst[k] += w * v[k];
-        }
-        dst[nComp] += w;
+        dst[k] = w * v[k];
       }
+      dst[nComp] = w;
     }
   });
   if (aborted)
   {
     return false;
   }
-  std::vector<const double*> parts;
-  for (auto it = local.begin(); it != local.end(); ++it)
+  // The cells at each point, in ascending order (a counting sort).
+  std::vector<vtkIdType> start(static_cast<size_t>(npts) + 1, 0);
+  for (vtkIdType c = 0; c < ncells; ++c)
   {
-    if (!it->empty())
+    if (weighted[static_cast<size_t>(c) * stride + nComp] > 0.0)
     {
-      parts.push_back(it->data());
+      const vtkIdType* ids = mesh.CellPoints(c);
+      for (int a = 0; a < mesh.CellSize(c); ++a)
+      {
+        ++start[ids[a] + 1];
+      }
+    }
+  }
+  for (vtkIdType p = 0; p < npts; ++p)
+  {
+    start[p + 1] += start[p];
+  }
+  std::vector<vtkIdType> cells(static_cast<size_t>(start[npts]));
+  {
+    std::vector<vtkIdType> fill(start.begin(), start.end() - 1);
+    for (vtkIdType c = 0; c < ncells; ++c)
+    {
+      if (weighted[static_cast<size_t>(c) * stride + nComp] > 0.0)
+      {
+        const vtkIdType* ids = mesh.CellPoints(c);
+        for (int a = 0; a < mesh.CellSize(c); ++a)
+        {
+          cells[fill[ids[a]]++] = c;
+        }
+      }
     }
   }
   out.assign(static_cast<size_t>(npts) * nComp, 0.0);
@@ -274,9 +296,9 @@ bool vtkARMeshKernels::CellsToPoints(const MeshView& mesh, int nComp, CellFn&& c
     for (vtkIdType p = begin; p < end; ++p)
     {
       std::fill(sum.begin(), sum.end(), 0.0);
-      for (const double* part : parts)
+      for (vtkIdType i = start[p]; i < start[p + 1]; ++i)
       {
-        const double* src = part + static_cast<size_t>(p) * stride;
+        const double* src = &weighted[static_cast<size_t>(cells[i]) * stride];
         for (int k = 0; k < stride; ++k)
         {
           sum[k] += src[k];

@@ -59,7 +59,6 @@
 #include <numeric>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 vtkStandardNewMacro(vtkEmbeddedRemesh);
@@ -163,15 +162,15 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
   {
     a->SetNumberOfTuples(n);
   }
-  // On threads over contiguous ranges of cells (VTK's SMP back end here is
-  // sequential); the sums are combined in range order, so the result does
-  // not depend on timing.
-  const unsigned nThreads = static_cast<unsigned>(std::max<vtkIdType>(1,
-    std::min<vtkIdType>(std::max(1u, std::thread::hardware_concurrency()), n / 20000 + 1)));
-  std::vector<vtkEmbeddedRemeshQuality> partial(nThreads);
-  auto work = [&](unsigned w) {
+  // On threads (vtkSMPTools) over fixed blocks of 20000 cells; the sums are
+  // combined in block order, so the result depends neither on timing nor on
+  // the number of threads.
+  const vtkIdType blockSize = 20000;
+  const vtkIdType nBlocks = (n + blockSize - 1) / blockSize;
+  std::vector<vtkEmbeddedRemeshQuality> partial(static_cast<std::size_t>(nBlocks));
+  auto work = [&](vtkIdType w) {
     vtkEmbeddedRemeshQuality& sums = partial[w];
-    const vtkIdType first = n * w / nThreads, last = n * (w + 1) / nThreads;
+    const vtkIdType first = w * blockSize, last = std::min(n, first + blockSize);
     vtkNew<vtkIdList> scratch;
     double x[8 * 3];
     for (vtkIdType c = first; c < last; ++c)
@@ -235,16 +234,12 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
       }
     }
   };
-  std::vector<std::thread> workers;
-  for (unsigned w = 1; w < nThreads; ++w)
-  {
-    workers.emplace_back(work, w);
-  }
-  work(0);
-  for (std::thread& t : workers)
-  {
-    t.join();
-  }
+  vtkSMPTools::For(0, nBlocks, 1, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType w = b; w < e; ++w)
+    {
+      work(w);
+    }
+  });
   vtkEmbeddedRemeshQuality sums;
   for (const vtkEmbeddedRemeshQuality& s : partial)
   {

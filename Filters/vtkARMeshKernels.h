@@ -18,13 +18,17 @@
 #include "vtkSmartPointer.h" // for the return type of GatherDomainBoundary
 #include "vtkType.h"
 
+#include <algorithm> // for TupleSources
 #include <atomic>
 #include <functional> // for Threaded
 #include <cmath>
+#include <memory> // for TetLocator's internals
 #include <string>
 #include <vector>
 
+class vtkAbstractArray;
 class vtkAlgorithm;
+class vtkDataSetAttributesFieldList;
 class vtkInformationVector;
 class vtkDataArray;
 class vtkDoubleArray;
@@ -212,6 +216,98 @@ public:
 
   /// A named double field array holding `n` values.
   static vtkSmartPointer<vtkDoubleArray> FieldArray(const char* name, const double* values, int n);
+
+  /**
+   * Where each tuple of a field transfer comes from: one source tuple
+   * copied, or (Width 4) four source tuples weighted (linear interpolation
+   * in a tetrahedron).
+   */
+  struct TupleSources
+  {
+    /// Source tuples per output tuple: 1 (copies only) or 4.
+    int Width = 1;
+    /// Width ids per output tuple. Ids[Width*i] < 0: tuple i is not filled
+    /// (another source fills it); with Width 4, Ids[4i+1] < 0: a copy of
+    /// tuple Ids[4i].
+    std::vector<vtkIdType> Ids;
+    /// 4 per output tuple with Width 4 (empty with Width 1).
+    std::vector<double> Weights;
+
+    TupleSources(vtkIdType n, int width)
+      : Width(width)
+      , Ids(static_cast<std::size_t>(n) * width, -1)
+      , Weights(width == 4 ? static_cast<std::size_t>(n) * 4 : 0, 0.0)
+    {
+    }
+    vtkIdType Size() const { return static_cast<vtkIdType>(this->Ids.size()) / this->Width; }
+    void Copy(vtkIdType i, vtkIdType from) { this->Ids[static_cast<std::size_t>(i) * this->Width] = from; }
+    void Interpolate(vtkIdType i, const vtkIdType from[4], const double weights[4])
+    {
+      std::copy(from, from + 4, &this->Ids[4 * static_cast<std::size_t>(i)]);
+      std::copy(weights, weights + 4, &this->Weights[4 * static_cast<std::size_t>(i)]);
+    }
+  };
+
+  /**
+   * Fills the arrays of `to` (just allocated from `from` by CopyAllocate or
+   * InterpolateAllocate, sources.Size() tuples) as `sources` says: array by
+   * array, on threads over the tuples, with the calls vtkDataSetAttributes'
+   * CopyData and InterpolatePoint make for each array (InsertTuple,
+   * InterpolateTuple, the nearest source tuple for an attribute flagged 2 for
+   * interpolation), so the values are theirs. Arrays that are not numeric
+   * (strings) are filled on one thread. Falls back to CopyData and
+   * InterpolatePoint tuple by tuple when the arrays cannot be paired by
+   * name (an unnamed array, or two with one name).
+   */
+  static void TransferData(vtkDataSetAttributes* from, vtkDataSetAttributes* to, const TupleSources& sources);
+  /// The same for the arrays `list` pairs for its input `index` (`to` was
+  /// allocated by the list's CopyAllocate or InterpolateAllocate).
+  static void TransferData(const vtkDataSetAttributesFieldList& list, int index, vtkDataSetAttributes* from,
+    vtkDataSetAttributes* to, const TupleSources& sources);
+
+  /**
+   * Point location in a set of tetrahedra, reproducible: the answer for a
+   * point depends only on the point and on where its search starts, never on
+   * the threads. A search walks from a start tetrahedron towards the point,
+   * each step across the face whose barycentric coordinate is the most
+   * negative (the neighbour found from the corners' sorted cell links),
+   * until every coordinate is >= -1e-10. The queries are taken in Morton
+   * order of their points (for the memory, not the result) in fixed blocks
+   * of 256: a query's start is its own (given), else the previous query's
+   * cell in its block, else (first of a block, or a walk that failed) the
+   * cell of least id around its nearest vertex (vtkStaticPointLocator). A
+   * walk that still fails (it leaves a concave cavity or takes 1000 steps)
+   * is redone after the threaded pass, in query order, by
+   * vtkStaticCellLocator::FindCell and, for a point outside every
+   * tetrahedron (round-off at the boundary), FindClosestPoint, the weights
+   * then those of the closest point.
+   */
+  class TetLocator
+  {
+  public:
+    TetLocator();
+    ~TetLocator();
+    TetLocator(const TetLocator&) = delete;
+    TetLocator& operator=(const TetLocator&) = delete;
+
+    /// `tets` holds VTK_TETRA cells only; it is kept (not copied).
+    void Build(vtkUnstructuredGrid* tets);
+    /// Locates the n points x[3q..3q+2], on threads: cell[q] (a cell of
+    /// `tets`) and its barycentric weights weights[4q..4q+3] (weights may be
+    /// null). start: a cell to walk from per query, -1 (or start null) for
+    /// the nearest vertex's.
+    void Locate(vtkIdType n, const double* x, const vtkIdType* start, vtkIdType* cell, double* weights) const;
+    /// The tetrahedron of least id using point p, -1 if none does.
+    vtkIdType CellOfPoint(vtkIdType p) const;
+    /// The four point ids of cell c.
+    const vtkIdType* CellPoints(vtkIdType c) const;
+    /// Queries the walk could not answer in the last Locate (for tests and timings).
+    vtkIdType LastFallbacks() const;
+
+  private:
+    struct vtkInternals;
+    std::unique_ptr<vtkInternals> Internals;
+  };
 };
 
 //------------------------------------------------------------------------------

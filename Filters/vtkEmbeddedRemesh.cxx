@@ -40,6 +40,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSMPThreadLocalObject.h"
 #include "vtkSmartPointer.h"
 #include "vtkStaticCellLocator.h"
 #include "vtkStaticCleanPolyData.h"
@@ -58,7 +59,6 @@
 #include <numeric>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 vtkStandardNewMacro(vtkEmbeddedRemesh);
@@ -162,15 +162,15 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
   {
     a->SetNumberOfTuples(n);
   }
-  // On threads over contiguous ranges of cells (VTK's SMP back end here is
-  // sequential); the sums are combined in range order, so the result does
-  // not depend on timing.
-  const unsigned nThreads = static_cast<unsigned>(std::max<vtkIdType>(1,
-    std::min<vtkIdType>(std::max(1u, std::thread::hardware_concurrency()), n / 20000 + 1)));
-  std::vector<vtkEmbeddedRemeshQuality> partial(nThreads);
-  auto work = [&](unsigned w) {
+  // On threads (vtkSMPTools) over fixed blocks of 20000 cells; the sums are
+  // combined in block order, so the result depends neither on timing nor on
+  // the number of threads.
+  const vtkIdType blockSize = 20000;
+  const vtkIdType nBlocks = (n + blockSize - 1) / blockSize;
+  std::vector<vtkEmbeddedRemeshQuality> partial(static_cast<std::size_t>(nBlocks));
+  auto work = [&](vtkIdType w) {
     vtkEmbeddedRemeshQuality& sums = partial[w];
-    const vtkIdType first = n * w / nThreads, last = n * (w + 1) / nThreads;
+    const vtkIdType first = w * blockSize, last = std::min(n, first + blockSize);
     vtkNew<vtkIdList> scratch;
     double x[8 * 3];
     for (vtkIdType c = first; c < last; ++c)
@@ -234,16 +234,12 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
       }
     }
   };
-  std::vector<std::thread> workers;
-  for (unsigned w = 1; w < nThreads; ++w)
-  {
-    workers.emplace_back(work, w);
-  }
-  work(0);
-  for (std::thread& t : workers)
-  {
-    t.join();
-  }
+  vtkSMPTools::For(0, nBlocks, 1, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType w = b; w < e; ++w)
+    {
+      work(w);
+    }
+  });
   vtkEmbeddedRemeshQuality sums;
   for (const vtkEmbeddedRemeshQuality& s : partial)
   {
@@ -1082,15 +1078,19 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
 
   // ---- Fields: kept points and cells copy theirs; new ones interpolate
   // from the input's cells that were removed (the cavity holds every new
-  // point), so the cost follows the cavity, not the whole mesh.
+  // point), so the cost follows the cavity, not the whole mesh. A new point
+  // takes the linear interpolation in the removed tetrahedron that contains
+  // it, a new cell the values of the removed tetrahedron that contains its
+  // centre (TetLocator: the same answer whatever the threads do).
   if (this->InterpolateFields)
   {
     vtkPointData* inPD = input->GetPointData();
     vtkPointData* outPD = output->GetPointData();
     vtkCellData* inCD = input->GetCellData();
     vtkCellData* outCD = output->GetCellData();
+    const auto nCellsOut = static_cast<vtkIdType>(sourceCell.size());
     outPD->InterpolateAllocate(inPD, nOut);
-    outCD->CopyAllocate(inCD, static_cast<vtkIdType>(sourceCell.size()));
+    outCD->CopyAllocate(inCD, nCellsOut);
     std::vector<char> keptTet(tetCell.size(), 0);
     for (const std::int64_t src : result.SourceCell)
     {
@@ -1099,8 +1099,6 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
         keptTet[src] = 1;
       }
     }
-    vtkNew<vtkUnstructuredGrid> cavity; // the removed tetrahedra, on the input's points
-    cavity->SetPoints(input->GetPoints());
     std::vector<vtkIdType> cavityCell; // input cell id of each cavity cell
     for (std::size_t t = 0; t < tetCell.size(); ++t)
     {
@@ -1109,125 +1107,128 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
         cavityCell.push_back(tetCell[t]);
       }
     }
-    cavity->Allocate(static_cast<vtkIdType>(cavityCell.size()));
-    for (const vtkIdType c : cavityCell)
+    const auto nCavity = static_cast<vtkIdType>(cavityCell.size());
+    vtkNew<vtkUnstructuredGrid> cavity; // the removed tetrahedra, on the input's points
+    cavity->SetPoints(input->GetPoints());
     {
-      input->GetCellPoints(c, ids);
-      cavity->InsertNextCell(VTK_TETRA, ids);
+      vtkNew<vtkIdTypeArray> offsets, connectivity;
+      offsets->SetNumberOfValues(nCavity + 1);
+      connectivity->SetNumberOfValues(4 * nCavity);
+      vtkSMPThreadLocalObject<vtkIdList> scratch;
+      vtkSMPTools::For(0, nCavity, [&](vtkIdType b, vtkIdType e) {
+        vtkIdList* corners = scratch.Local();
+        for (vtkIdType c = b; c < e; ++c)
+        {
+          vtkIdType npts;
+          const vtkIdType* pts;
+          input->GetCellPoints(cavityCell[c], npts, pts, corners);
+          for (int k = 0; k < 4; ++k)
+          {
+            connectivity->SetValue(4 * c + k, pts[k]);
+          }
+          offsets->SetValue(c, 4 * c);
+        }
+      });
+      offsets->SetValue(nCavity, 4 * nCavity);
+      vtkNew<vtkCellArray> cells;
+      cells->SetData(offsets, connectivity);
+      cavity->SetCells(VTK_TETRA, cells);
     }
-    vtkNew<vtkStaticCellLocator> cells;
-    cells->SetDataSet(cavity);
-    cells->BuildLocator();
-    const double tol2 = 1e-12 * input->GetLength2();
-    // Every new point and every new cell's centre, located in the removed
-    // cells: on threads (the static locator's FindCell is thread-safe with a
-    // cell per thread; VTK's SMP back end here is sequential).
+    vtkARMeshKernels::TetLocator locator;
+    locator.Build(cavity);
+
+    // The new points, each walked to from its nearest cavity vertex.
     std::vector<vtkIdType> newPoint;
+    std::vector<vtkIdType> queryOf(nOut, -1); // new point -> its query
     for (vtkIdType i = 0; i < nOut; ++i)
     {
       if (result.SourcePoint[i] < 0)
       {
+        queryOf[i] = static_cast<vtkIdType>(newPoint.size());
         newPoint.push_back(i);
       }
     }
-    std::vector<std::size_t> newCell;
-    for (std::size_t k = 0; k < sourceCell.size(); ++k)
+    const auto nNewPoints = static_cast<vtkIdType>(newPoint.size());
+    std::vector<double> where(3 * newPoint.size());
+    for (vtkIdType q = 0; q < nNewPoints; ++q)
+    {
+      std::copy(&result.Mesh.Points[3 * newPoint[q]], &result.Mesh.Points[3 * newPoint[q]] + 3, &where[3 * q]);
+    }
+    std::vector<vtkIdType> pointIn(newPoint.size());
+    std::vector<double> weights(4 * newPoint.size());
+    locator.Locate(nNewPoints, where.data(), nullptr, pointIn.data(), weights.data());
+    const vtkIdType pointFallbacks = locator.LastFallbacks();
+
+    // The new cells' centres, each walked to from the cavity cell of one of
+    // its corners (a new point's, or a kept point's first).
+    std::vector<vtkIdType> newCell;
+    for (vtkIdType k = 0; k < nCellsOut; ++k)
     {
       if (sourceCell[k] < 0)
       {
         newCell.push_back(k);
       }
     }
-    const std::size_t nQueries = newPoint.size() + newCell.size();
-    std::vector<double> where(3 * nQueries);
-    for (std::size_t q = 0; q < newPoint.size(); ++q)
+    const auto nNewCells = static_cast<vtkIdType>(newCell.size());
+    std::vector<double> centres(3 * newCell.size());
+    std::vector<vtkIdType> starts(newCell.size(), -1), cellIn(newCell.size());
     {
-      points->GetPoint(newPoint[q], &where[3 * q]);
-    }
-    for (std::size_t q = 0; q < newCell.size(); ++q)
-    {
-      vtkIdType npts;
-      const vtkIdType* pts;
-      output->GetCellPoints(static_cast<vtkIdType>(newCell[q]), npts, pts);
-      double* centre = &where[3 * (newPoint.size() + q)];
-      std::fill(centre, centre + 3, 0.0);
-      for (vtkIdType j = 0; j < npts; ++j)
-      {
-        for (int d = 0; d < 3; ++d)
+      vtkSMPThreadLocalObject<vtkIdList> scratch;
+      vtkSMPTools::For(0, nNewCells, [&](vtkIdType b, vtkIdType e) {
+        vtkIdList* corners = scratch.Local();
+        for (vtkIdType q = b; q < e; ++q)
         {
-          centre[d] += result.Mesh.Points[3 * pts[j] + d] / static_cast<double>(npts);
-        }
-      }
-    }
-    std::vector<vtkIdType> found(nQueries, -1);
-    std::vector<double> weights(4 * nQueries, 0.0);
-    {
-      const unsigned nThreads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
-      std::vector<std::thread> workers;
-      for (unsigned w = 0; w < nThreads; ++w)
-      {
-        workers.emplace_back([&, w]() {
-          vtkNew<vtkGenericCell> cell;
-          double pcoords[3], wts[VTK_CELL_SIZE];
-          int subId;
-          for (std::size_t q = w; q < nQueries; q += nThreads)
+          vtkIdType npts;
+          const vtkIdType* pts;
+          output->GetCellPoints(newCell[q], npts, pts, corners);
+          double* centre = &centres[3 * q];
+          std::fill(centre, centre + 3, 0.0);
+          for (vtkIdType j = 0; j < npts; ++j)
           {
-            found[q] = cells->FindCell(&where[3 * q], tol2, cell, subId, pcoords, wts);
-            if (found[q] >= 0)
+            for (int d = 0; d < 3; ++d)
             {
-              std::copy(wts, wts + 4, &weights[4 * q]);
+              centre[d] += result.Mesh.Points[3 * pts[j] + d] / static_cast<double>(npts);
+            }
+            if (starts[q] < 0)
+            {
+              starts[q] = queryOf[pts[j]] >= 0 ? pointIn[queryOf[pts[j]]]
+                                               : locator.CellOfPoint(result.SourcePoint[pts[j]]);
             }
           }
-        });
-      }
-      for (std::thread& t : workers)
-      {
-        t.join();
-      }
+        }
+      });
     }
-    // The rare misses (round-off at the cavity's boundary): the closest removed cell.
-    vtkNew<vtkGenericCell> cell;
-    for (std::size_t q = 0; q < nQueries; ++q)
-    {
-      if (found[q] < 0)
-      {
-        double closest[3], dist2, pcoords[3];
-        int subId;
-        cells->FindClosestPoint(&where[3 * q], closest, cell, found[q], subId, dist2);
-        cell->EvaluatePosition(closest, nullptr, subId, pcoords, dist2, &weights[4 * q]);
-      }
-    }
+    locator.Locate(nNewCells, centres.data(), starts.data(), cellIn.data(), nullptr);
+    vtkDebugMacro(<< "interpolation: " << nNewPoints << " new points (" << pointFallbacks
+                  << " located by the cell locator), " << nNewCells << " new cells ("
+                  << locator.LastFallbacks() << ")");
+
+    // The copies and the interpolation, array by array.
+    vtkARMeshKernels::TupleSources pointSources(nOut, 4), cellSources(nCellsOut, 1);
     for (vtkIdType i = 0; i < nOut; ++i)
     {
       if (result.SourcePoint[i] >= 0)
       {
-        outPD->CopyData(inPD, result.SourcePoint[i], i);
+        pointSources.Copy(i, result.SourcePoint[i]);
       }
     }
-    vtkNew<vtkIdList> corners;
-    corners->SetNumberOfIds(4);
-    for (std::size_t q = 0; q < newPoint.size(); ++q)
+    for (vtkIdType q = 0; q < nNewPoints; ++q)
     {
-      vtkIdType npts;
-      const vtkIdType* pts;
-      cavity->GetCellPoints(found[q], npts, pts);
-      for (int k = 0; k < 4; ++k)
-      {
-        corners->SetId(k, pts[k]);
-      }
-      outPD->InterpolatePoint(inPD, newPoint[q], corners, &weights[4 * q]);
+      pointSources.Interpolate(newPoint[q], locator.CellPoints(pointIn[q]), &weights[4 * q]);
     }
-    for (std::size_t k = 0; k < sourceCell.size(); ++k)
+    for (vtkIdType k = 0; k < nCellsOut; ++k)
     {
       if (sourceCell[k] >= 0)
       {
-        outCD->CopyData(inCD, sourceCell[k], static_cast<vtkIdType>(k));
+        cellSources.Copy(k, sourceCell[k]);
       }
     }
-    for (std::size_t q = 0; q < newCell.size(); ++q)
+    for (vtkIdType q = 0; q < nNewCells; ++q)
     {
-      outCD->CopyData(inCD, cavityCell[found[newPoint.size() + q]], static_cast<vtkIdType>(newCell[q]));
+      cellSources.Copy(newCell[q], cavityCell[cellIn[q]]);
     }
+    vtkARMeshKernels::TransferData(inPD, outPD, pointSources);
+    vtkARMeshKernels::TransferData(inCD, outCD, cellSources);
   }
   const double secondsInterpolation = lap();
   output->GetCellData()->AddArray(region);
@@ -1976,54 +1977,72 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
       pointList.IntersectFieldList(G->GetPointData());
       cellList.IntersectFieldList(G->GetCellData());
     }
+    const auto nCellsOut = static_cast<vtkIdType>(cellSource.size());
     outPD->InterpolateAllocate(pointList, nOut);
-    outCD->CopyAllocate(cellList, static_cast<vtkIdType>(cellSource.size()));
+    outCD->CopyAllocate(cellList, nCellsOut);
+    // Each output tuple from the input (kept points and cells: list index
+    // 0) or from G (rank 0's new ones: index 1), as the serial run does.
+    vtkARMeshKernels::TupleSources pointsFromInput(nOut, 1), pointsFromG(nOut, 4);
+    vtkARMeshKernels::TupleSources cellsFromInput(nCellsOut, 1), cellsFromG(nCellsOut, 1);
     for (vtkIdType i = 0; i < nInputOut; ++i)
     {
-      outPD->CopyData(pointList, inPD, 0, pointSource[i], i);
+      pointsFromInput.Copy(i, pointSource[i]);
     }
-    vtkSmartPointer<vtkStaticCellLocator> cells;
-    vtkNew<vtkGenericCell> cell;
-    std::vector<double> weights(VTK_CELL_SIZE);
-    double pcoords[3];
-    int subId;
+    vtkARMeshKernels::TetLocator locator;
     if (rank == 0 && G->GetNumberOfCells() > 0)
     {
-      cells = vtkSmartPointer<vtkStaticCellLocator>::New();
-      cells->SetDataSet(G);
-      cells->BuildLocator();
+      locator.Build(G);
     }
-    const double tol2 = 1e-12 * (rank == 0 ? G->GetLength2() : 1.0);
+    // The new points (no G point) located in G's tetrahedra ...
+    std::vector<vtkIdType> newPoint, queryOf(nOut, -1);
     for (vtkIdType i = nInputOut; i < nOut; ++i)
     {
       const std::int64_t g = gSource[i - nInputOut];
       if (g >= 0)
       {
-        outPD->CopyData(pointList, G->GetPointData(), 1, g, i);
-        continue;
+        pointsFromG.Copy(i, g);
       }
-      double x[3];
-      points->GetPoint(i, x);
-      vtkIdType c = cells->FindCell(x, tol2, cell, subId, pcoords, weights.data());
-      if (c < 0)
+      else
       {
-        double closest[3], dist2;
-        cells->FindClosestPoint(x, closest, cell, c, subId, dist2);
-        cell->EvaluatePosition(closest, nullptr, subId, pcoords, dist2, weights.data());
+        queryOf[i] = static_cast<vtkIdType>(newPoint.size());
+        newPoint.push_back(i);
       }
-      outPD->InterpolatePoint(pointList, G->GetPointData(), 1, i, cell->PointIds, weights.data());
     }
-    for (std::size_t k = 0; k < cellSource.size(); ++k)
+    const auto nNewPoints = static_cast<vtkIdType>(newPoint.size());
+    std::vector<double> where(3 * newPoint.size()), weights(4 * newPoint.size());
+    std::vector<vtkIdType> pointIn(newPoint.size());
+    for (vtkIdType q = 0; q < nNewPoints; ++q)
+    {
+      points->GetPoint(newPoint[q], &where[3 * q]);
+    }
+    locator.Locate(nNewPoints, where.data(), nullptr, pointIn.data(), weights.data());
+    for (vtkIdType q = 0; q < nNewPoints; ++q)
+    {
+      pointsFromG.Interpolate(newPoint[q], locator.CellPoints(pointIn[q]), &weights[4 * q]);
+    }
+    // ... and the new cells' centres, walked to from a corner's tetrahedron.
+    std::vector<vtkIdType> newCell;
+    for (vtkIdType k = 0; k < nCellsOut; ++k)
     {
       if (cellSource[k] >= 0)
       {
-        outCD->CopyData(cellList, inCD, 0, cellSource[k], static_cast<vtkIdType>(k));
-        continue;
+        cellsFromInput.Copy(k, cellSource[k]);
       }
-      double centre[3] = { 0.0, 0.0, 0.0 };
+      else
+      {
+        newCell.push_back(k);
+      }
+    }
+    const auto nNewCells = static_cast<vtkIdType>(newCell.size());
+    std::vector<double> centres(3 * newCell.size());
+    std::vector<vtkIdType> starts(newCell.size(), -1), cellIn(newCell.size());
+    vtkNew<vtkIdList> corners;
+    for (vtkIdType q = 0; q < nNewCells; ++q)
+    {
       vtkIdType npts;
       const vtkIdType* pts;
-      output->GetCellPoints(static_cast<vtkIdType>(k), npts, pts);
+      output->GetCellPoints(newCell[q], npts, pts, corners);
+      double* centre = &centres[3 * q];
       for (vtkIdType j = 0; j < npts; ++j)
       {
         double x[3];
@@ -2032,14 +2051,24 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
         {
           centre[d] += x[d] / static_cast<double>(npts);
         }
+        if (starts[q] < 0 && pts[j] >= nInputOut)
+        {
+          starts[q] = queryOf[pts[j]] >= 0 ? pointIn[queryOf[pts[j]]]
+                                           : locator.CellOfPoint(gSource[pts[j] - nInputOut]);
+        }
       }
-      vtkIdType src = cells->FindCell(centre, tol2, cell, subId, pcoords, weights.data());
-      if (src < 0)
-      {
-        double closest[3], dist2;
-        cells->FindClosestPoint(centre, closest, cell, src, subId, dist2);
-      }
-      outCD->CopyData(cellList, G->GetCellData(), 1, src, static_cast<vtkIdType>(k));
+    }
+    locator.Locate(nNewCells, centres.data(), starts.data(), cellIn.data(), nullptr);
+    for (vtkIdType q = 0; q < nNewCells; ++q)
+    {
+      cellsFromG.Copy(newCell[q], cellIn[q]);
+    }
+    vtkARMeshKernels::TransferData(pointList, 0, inPD, outPD, pointsFromInput);
+    vtkARMeshKernels::TransferData(cellList, 0, inCD, outCD, cellsFromInput);
+    if (rank == 0)
+    {
+      vtkARMeshKernels::TransferData(pointList, 1, G->GetPointData(), outPD, pointsFromG);
+      vtkARMeshKernels::TransferData(cellList, 1, G->GetCellData(), outCD, cellsFromG);
     }
     outPD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
     outCD->RemoveArray(vtkDataSetAttributes::GhostArrayName());

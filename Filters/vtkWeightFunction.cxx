@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkWeightFunction.h"
 
+#include "vtkShockSensor.h"
+
 #include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellData.h"
+#include "vtkNew.h"
+#include "vtkStringArray.h"
 #include "vtkCommand.h"
 #include "vtkDataArraySelection.h"
 #include "vtkDoubleArray.h"
@@ -108,13 +112,46 @@ int vtkWeightFunction::ExecuteData(
   int nq = 0;
   vtkPointData* pd = input->GetPointData();
   vtkCellData* cd = input->GetCellData();
+  // The variables: those selected, or with none selected (pvpython on a
+  // reader that has not run yet gets an empty selection) the paper's
+  // conserved variables found by their usual names (rho, rhoU, rhoE and the
+  // SU2/CGNS spellings, vtkShockSensor::KnownArrayNames), else the
+  // primitive ones (rho, U, p).
+  std::vector<std::string> names;
   for (int i = 0; i < this->VariableSelection->GetNumberOfArrays(); ++i)
   {
-    if (!this->VariableSelection->GetArraySetting(i))
+    if (this->VariableSelection->GetArraySetting(i))
     {
-      continue;
+      names.emplace_back(this->VariableSelection->GetArrayName(i));
     }
-    const char* name = this->VariableSelection->GetArrayName(i);
+  }
+  const bool automatic = names.empty();
+  if (automatic)
+  {
+    const int sets[2][3] = { { vtkShockSensor::DENSITY, vtkShockSensor::MOMENTUM, vtkShockSensor::TOTAL_ENERGY },
+      { vtkShockSensor::DENSITY, vtkShockSensor::VELOCITY, vtkShockSensor::PRESSURE } };
+    const int components[2][3] = { { 1, 3, 1 }, { 1, 3, 1 } };
+    for (int k = 0; k < 2 && names.empty(); ++k)
+    {
+      std::vector<std::string> found;
+      for (int r = 0; r < 3; ++r)
+      {
+        int association = -1;
+        vtkDataArray* a = vtkShockSensor::FindKnownArray(sets[k][r], components[k][r], input, association);
+        if (a && a->GetName())
+        {
+          found.emplace_back(a->GetName());
+        }
+      }
+      if (found.size() == 3)
+      {
+        names = found;
+      }
+    }
+  }
+  for (const std::string& chosen : names)
+  {
+    const char* name = chosen.c_str();
     Variable v;
     v.Array = pd->GetArray(name);
     v.OnPoints = v.Array != nullptr;
@@ -134,10 +171,12 @@ int vtkWeightFunction::ExecuteData(
     nq += v.Array->GetNumberOfComponents();
     variables.push_back(v);
   }
-  if (this->VariableSelection->GetNumberOfArraysEnabled() == 0)
+  if (names.empty())
   {
-    problem << "No variable is selected: choose one or more point or cell arrays "
-               "(the paper uses the conserved variables rho, rhoU, rhoE). ";
+    problem << "No variable is selected, and the input has neither the conserved variables (density "
+               "rho, momentum rhoU, total energy rhoE, or their SU2/CGNS names) nor the primitive ones "
+               "(rho, U, p) by name: choose one or more point or cell arrays (the paper uses the "
+               "conserved variables). ";
   }
 
   // Values of all variables at the points: nq columns.
@@ -413,6 +452,13 @@ int vtkWeightFunction::ExecuteData(
     }
   });
   output->GetCellData()->AddArray(result);
+  vtkNew<vtkStringArray> used; // the variables W was computed from (chosen or automatic)
+  used->SetName("VariablesUsed");
+  for (const Variable& v : variables)
+  {
+    used->InsertNextValue(v.Array->GetName());
+  }
+  output->GetFieldData()->AddArray(used);
 
   if (this->ComputePointWeight)
   {

@@ -75,7 +75,10 @@ public:
 
   /**
    * The variables q^i: names of point or cell arrays; enabled entries are
-   * used. Every component of a vector array is a variable.
+   * used. Every component of a vector array is a variable. With none
+   * enabled: the conserved variables by their usual names
+   * (vtkShockSensor::KnownArrayNames for density, momentum, total energy),
+   * else density, velocity, pressure; field data VariablesUsed.
    */
   vtkDataArraySelection* GetVariableSelection() { return this->VariableSelection; }
   void AddVariable(const char* name);

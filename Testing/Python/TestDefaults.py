@@ -25,6 +25,8 @@ with the arrays renamed as other solvers' exports name them:
   round-off, their direction noise);
 - a named array that is missing, VariableSet 7, GasConstant -1: refused by
   name. Every refusal passes the input through unchanged.
+WeightFunction with no variable selected: the conserved variables by their
+usual names (OpenFOAM, SU2), else rho, U, p (VariablesUsed).
 FeatureCluster with its defaults after each sensor:
 - after ShockSensor: NormalMach in [0.8, 1.2] (SensorArrayUsed,
   SensorRangeUsed on both ports), the same medial points as the explicitly
@@ -201,6 +203,24 @@ fit = artest.fetch(QuadricFit(Input=OutputPort(auto, 1), Domain=cone, Template="
 half, theory = artest.field(fit, "HalfAngle")[0], artest.field(artest.fetch(cone), "ShockAngleTaylorMaccoll")[0]
 check(abs(half - theory) < 0.5, "the cone fitted to the default clusters: %.2f deg (Taylor-Maccoll %.2f)" % (half, theory))
 w = WeightFunction(Input=cone, Variables=["rho", "rhoU", "rhoE"], ComputePointWeight=1)
+# With no variable selected (pvpython on a reader that has not run yet gets
+# an empty selection): the conserved variables by name, else rho, U, p.
+explicit = np.asarray(artest.fetch(w).CellData["WeightFunction"])
+for label, source, want, reference in (
+        ("OpenFOAM names", variant({"rho": "rho", "U": "U", "p": "p", "rhoU": "rhoU", "rhoE": "rhoE"}),
+         ["rho", "rhoU", "rhoE"], explicit),
+        ("SU2 names", variant({"rho": "Density", "U": "Velocity", "p": "Pressure", "rhoU": "Momentum",
+                               "rhoE": "Energy"}), ["Density", "Momentum", "Energy"], explicit),
+        ("primitive only", variant({"rho": "rho", "U": "U", "p": "p"}), ["rho", "U", "p"], None)):
+    wf_proxy = WeightFunction(Input=source)
+    wf_proxy.Variables = []
+    o = artest.fetch(wf_proxy)
+    got = o.FieldData["VariablesUsed"] if "VariablesUsed" in o.FieldData.keys() else None
+    names = [got.GetValue(i) for i in range(got.GetNumberOfValues())] if got is not None else []
+    wf = np.asarray(o.CellData["WeightFunction"]) if "WeightFunction" in o.CellData.keys() else None
+    check(names == want and wf is not None and (reference is None or np.array_equal(wf, reference)),
+          "WeightFunction with no variable selected, %s: computed from %s%s" % (
+              label, names, " (the explicit conserved run's W, bit for bit)" if reference is not None else ""))
 check(used(artest.fetch(FeatureCluster(Input=w))) == ("WeightFunction", [1.5, 2.0]),
       "FeatureCluster after WeightFunction: %s in %s" % used(artest.fetch(FeatureCluster(Input=w))))
 before = len(messages.GetOutput())

@@ -250,6 +250,21 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
 constexpr int CentringSamples = 24;
 constexpr double CentringReach = 3.0;
 
+/// The run of finite samples around the line's middle K: [lo, hi].
+void FiniteRun(const double* v, int& lo, int& hi)
+{
+  const int K = CentringSamples, n = 2 * K + 1;
+  lo = hi = K;
+  while (lo > 0 && std::isfinite(v[lo - 1]))
+  {
+    --lo;
+  }
+  while (hi < n - 1 && std::isfinite(v[hi + 1]))
+  {
+    ++hi;
+  }
+}
+
 /**
  * The signed offset, along the line, of the half-jump point of the profile
  * `v` sampled at s = (k - K) / K * reach, k = 0..2K: the contiguous valid
@@ -259,20 +274,13 @@ constexpr double CentringReach = 3.0;
  */
 bool HalfJumpOffset(const double* v, double reach, double& offset)
 {
-  const int K = CentringSamples, n = 2 * K + 1;
+  const int K = CentringSamples;
   if (!std::isfinite(v[K]))
   {
     return false;
   }
   int lo = K, hi = K;
-  while (lo > 0 && std::isfinite(v[lo - 1]))
-  {
-    --lo;
-  }
-  while (hi < n - 1 && std::isfinite(v[hi + 1]))
-  {
-    ++hi;
-  }
+  FiniteRun(v, lo, hi);
   if (K - lo < K / 3 || hi - K < K / 3)
   {
     return false;
@@ -308,16 +316,9 @@ bool HalfJumpOffset(const double* v, double reach, double& offset)
 /// the half-jump on either side. False where either is missing.
 bool RiseWidth(const double* v, double reach, double offset, double& width)
 {
-  const int K = CentringSamples, n = 2 * K + 1;
+  const int K = CentringSamples;
   int lo = K, hi = K;
-  while (lo > 0 && std::isfinite(v[lo - 1]))
-  {
-    --lo;
-  }
-  while (hi < n - 1 && std::isfinite(v[hi + 1]))
-  {
-    ++hi;
-  }
+  FiniteRun(v, lo, hi);
   const double vmin = *std::min_element(v + lo, v + hi + 1);
   const double vmax = *std::max_element(v + lo, v + hi + 1);
   double near[2] = { 0.0, 0.0 };

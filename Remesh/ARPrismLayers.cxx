@@ -178,19 +178,207 @@ bool PrismLayerDistances(const PrismLayerOptions& o, std::vector<double>& z, std
   return true;
 }
 
-bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri, std::size_t nT,
-  const double* obstacles, std::size_t nObstacles, const PrismLayerOptions& o, PrismStack& out,
-  std::string& error)
+namespace
+{
+/**
+ * One BuildPrismLayers call: the inputs, the state its stages share, and the
+ * stages in the order they run (Execute): the surface's topology, the vertex
+ * normals, the trees, the column heights, the border closure's sizes and the
+ * point ids; then rounds of building the cells and the outer surface,
+ * checking them and shrinking the columns and closure offsets that failed.
+ */
+class LayerBuild
+{
+public:
+  LayerBuild(const double* xyz_, std::size_t nS_, const std::int64_t* tri_, std::size_t nT_,
+    const double* obstacles_, std::size_t nObstacles_, const PrismLayerOptions& o_, PrismStack& out_,
+    std::string& error_)
+    : xyz(xyz_)
+    , nS(nS_)
+    , tri(tri_)
+    , nT(nT_)
+    , obstacles(obstacles_)
+    , nObstacles(nObstacles_)
+    , o(o_)
+    , out(out_)
+    , error(error_)
+  {
+  }
+
+  bool Execute();
+
+private:
+  bool Validate();
+  bool BuildTopology();
+  bool ComputeNormals();
+  bool BuildTrees();
+  void ComputeHeights();
+  void Grade();
+  void ComputeBorderOffsets();
+  void NumberPoints();
+  bool ComputePrismFloors();
+  bool CheckHeights();
+  bool PlaceWedges();
+  void PlaceApices();
+  void WritePoints();
+  void BuildCells();
+  void BuildOuterSurface();
+  bool CheckOuterSurface();
+  void Shrink();
+  void WriteResults();
+
+  // Half-edge 3t+k goes from corner k of triangle t to corner k+1.
+  std::int64_t tail(std::size_t he) const { return tri[he]; }
+  std::int64_t head(std::size_t he) const { return tri[3 * (he / 3) + (he % 3 + 1) % 3]; }
+  /// The smallest dot of `n` with the unit normals of v's triangles (and which).
+  double minDot(std::size_t v, const Vec& n, std::int64_t* worst) const;
+  // Free distance along a ray from x in direction d, skipping the S triangles
+  // that contain one of the points in `skip`.
+  double freeDistance(const Vec& x, const Vec& d, std::int64_t skipA, std::int64_t skipB) const;
+  /// Point id of S point v at column index k in [lo, hi].
+  std::int64_t id(std::int64_t v, int k) const;
+  /// Signed distance from S of column index k in [lo, hi]: requested, and at point v.
+  double requested(int k) const { return k >= 0 ? z[k] : -z[-k]; }
+  double height(std::int64_t v, int k) const { return k >= 0 ? z[k] * H[2 * v] / Z : -z[-k] * H[2 * v + 1] / Z; }
+  double groupMid(std::int64_t v, int g) const { return 0.5 * (height(v, K[g]) + height(v, K[g + 1])); }
+  /// Layer and side of the layer between column indices k and k + 1.
+  static int layerOf(int k) { return k >= 0 ? k : -k - 1; }
+  static int sideOf(int k) { return k >= 0 ? 1 : -1; }
+  /// Point v's column at group g's mid-height.
+  Vec columnAt(std::int64_t v, int g) const { return Vec(X[v] + groupMid(v, g) * normal[v]); }
+  /// The apex beside the middle of edge (a, b) at group g's mid-height: d_e
+  /// out in the plane of the column points there.
+  Vec apexOf(std::size_t edge, int g) const
+  {
+    const std::int64_t ea = tail(borderEdges[edge]), eb = head(borderEdges[edge]);
+    const Vec ca = columnAt(ea, g), cb = columnAt(eb, g);
+    return Vec(0.5 * (ca + cb) + dEdge[edge] * (cb - ca).cross(nEdge[edge]).normalized());
+  }
+  std::int64_t edgeApex(std::int64_t e, int g) const { return firstApex + e * nGroups + g; }
+  Vec x(std::int64_t i) const { return At(&out.Points[3 * i]); }
+  void addTet(const std::array<std::int64_t, 4>& q, int k, std::int64_t edge1, std::int64_t edge2,
+    std::int64_t point);
+  void addOuter(std::int64_t p, std::int64_t q, std::int64_t r, int kind, std::int64_t ref, int side);
+
+  // Inputs.
+  const double* xyz;
+  const std::size_t nS;
+  const std::int64_t* tri;
+  const std::size_t nT;
+  const double* obstacles;
+  const std::size_t nObstacles;
+  const PrismLayerOptions& o;
+  PrismStack& out;
+  std::string& error;
+
+  // The layers' distances from S, their number and height, the sides.
+  std::vector<double> z;
+  int N = 0;
+  double Z = 0.0;
+  int sides = 1;
+  // Topology: corners at each point, the twin of each half-edge, the border
+  // (one fan per point), the used points' ranks, the neighbours.
+  std::vector<std::int64_t> cStart, corners, twin, borderEdges, outBorder, rank, nStart, nbrs;
+  std::size_t nUsed = 0;
+  std::vector<Vec> X, faceNormal, faceUnit, normal;
+  // The trees: obstacles and S itself.
+  std::vector<Triangle> obstacleTris, surfaceTris;
+  Tree obstacleTree, surfaceTree;
+  // Column heights H[2 v + s] (s = 0 on the + side), the border edges'
+  // closure offsets d_e, lengths, outward and normal directions.
+  std::vector<double> H, dEdge, lEdge;
+  std::vector<Vec> tEdge, nEdge;
+  std::size_t nB = 0;
+  // Point ids, the closure's groups of layers K_0 < .. < K_m, the prisms'
+  // corner floors.
+  std::int64_t firstApex = 0;
+  int lo = 0, hi = 0, nGroups = 0;
+  std::vector<int> K;
+  std::vector<double> prismFloor;
+  // A round's state: the wedges at border points and their apices, what
+  // must shrink, where each outer triangle comes from.
+  struct Wedge
+  {
+    std::vector<double> Phi1, Gamma, Rho; // per group
+    std::vector<Vec> XAxis, YAxis;        // per group
+    int Pieces = 1;
+  };
+  struct Source
+  {
+    int Kind;
+    std::int64_t Ref;
+    int Side;
+  };
+  std::vector<Wedge> wedges;
+  std::vector<std::vector<std::vector<std::int64_t>>> W; // W[e][g]: the wedge at head(e) in group g
+  std::vector<Vec> apex;                 // apex positions, id firstApex + index
+  std::vector<std::int64_t> apexSource;  // the S point each apex stands beside
+  std::vector<char> shrinkH, shrinkD;
+  std::vector<Source> outerSource;
+  bool shrink = false;
+  int round = 0;
+};
+
+bool LayerBuild::Execute()
+{
+  if (!Validate() || !BuildTopology() || !ComputeNormals() || !BuildTrees())
+  {
+    return false;
+  }
+  ComputeHeights();
+  ComputeBorderOffsets();
+  NumberPoints();
+  if (!ComputePrismFloors())
+  {
+    return false;
+  }
+  shrinkH.assign(2 * nS, 0);
+  shrinkD.assign(nB, 0);
+  const std::size_t nPrisms = nT * static_cast<std::size_t>(sides * N);
+  out.Prisms.reserve(6 * nPrisms);
+  out.PrismLayer.reserve(nPrisms);
+  out.PrismSide.reserve(nPrisms);
+  out.PrismTriangle.reserve(nPrisms);
+  out.OuterTriangles.reserve(6 * nT + 12 * nB);
+  for (;; ++round)
+  {
+    if (round >= MaxRounds)
+    {
+      error = "the prism layers could not be made valid in " + std::to_string(MaxRounds) + " rounds.";
+      return false;
+    }
+    if (!CheckHeights() || !PlaceWedges())
+    {
+      return false;
+    }
+    PlaceApices();
+    WritePoints();
+    BuildCells();
+    BuildOuterSurface();
+    if (!CheckOuterSurface())
+    {
+      return false;
+    }
+    if (!shrink)
+    {
+      break;
+    }
+    Shrink();
+  }
+  WriteResults();
+  return true;
+}
+
+bool LayerBuild::Validate()
 {
   out = PrismStack();
-  std::vector<double> z;
   if (!PrismLayerDistances(o, z, error))
   {
     return false;
   }
-  const int N = o.NumberOfLayers;
-  const double Z = z.back();
-  const int sides = o.BothSides ? 2 : 1;
+  N = o.NumberOfLayers;
+  Z = z.back();
+  sides = o.BothSides ? 2 : 1;
   if (nS < 3 || nT == 0)
   {
     error = "the surface is empty (no triangles).";
@@ -215,11 +403,15 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     }
   }
 
+  return true;
+}
+
+bool LayerBuild::BuildTopology()
+{
   // ---- Topology: corners at each point, the twin of each directed edge.
   // Edge 3t+k goes from corner k of triangle t to corner k+1.
-  auto tail = [&](std::size_t he) { return tri[he]; };
-  auto head = [&](std::size_t he) { return tri[3 * (he / 3) + (he % 3 + 1) % 3]; };
-  std::vector<std::int64_t> cStart(nS + 1, 0), corners(3 * nT);
+  cStart.assign(nS + 1, 0);
+  corners.assign(3 * nT, 0);
   for (std::size_t k = 0; k < 3 * nT; ++k)
   {
     ++cStart[tri[k] + 1];
@@ -235,12 +427,13 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
       corners[fill[tri[k]]++] = static_cast<std::int64_t>(k);
     }
   }
-  std::vector<Vec> X(nS);
+  X.resize(nS);
   for (std::size_t v = 0; v < nS; ++v)
   {
     X[v] = At(xyz + 3 * v);
   }
-  std::vector<Vec> faceNormal(nT), faceUnit(nT);
+  faceNormal.resize(nT);
+  faceUnit.resize(nT);
   for (std::size_t t = 0; t < nT; ++t)
   {
     const std::int64_t* f = tri + 3 * t;
@@ -253,7 +446,7 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     }
     faceUnit[t] = faceNormal[t] / n;
   }
-  std::vector<std::int64_t> twin(3 * nT, -1);
+  twin.assign(3 * nT, -1);
   for (std::size_t he = 0; he < 3 * nT; ++he)
   {
     const std::int64_t a = tail(he), b = head(he);
@@ -281,9 +474,8 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     }
   }
   // Border edges, one fan per point.
-  std::vector<std::int64_t> borderEdges, outBorder(nS, -1);
-  std::vector<std::int64_t> rank(nS, -1);
-  std::size_t nUsed = 0;
+  outBorder.assign(nS, -1);
+  rank.assign(nS, -1);
   for (std::size_t v = 0; v < nS; ++v)
   {
     const std::int64_t deg = cStart[v + 1] - cStart[v];
@@ -329,7 +521,7 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     }
   }
   // Neighbours of each point (along S's edges).
-  std::vector<std::int64_t> nStart(nS + 1, 0), nbrs;
+  nStart.assign(nS + 1, 0);
   for (std::size_t v = 0; v < nS; ++v)
   {
     const std::size_t first = nbrs.size();
@@ -344,24 +536,31 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     nStart[v + 1] = static_cast<std::int64_t>(nbrs.size());
   }
 
-  // ---- Vertex normals: area-weighted, made visible from every incident triangle, smoothed.
-  auto minDot = [&](std::size_t v, const Vec& n, std::int64_t* worst) {
-    double m = 2.0;
-    for (std::int64_t i = cStart[v]; i < cStart[v + 1]; ++i)
+  return true;
+}
+
+double LayerBuild::minDot(std::size_t v, const Vec& n, std::int64_t* worst) const
+{
+  double m = 2.0;
+  for (std::int64_t i = cStart[v]; i < cStart[v + 1]; ++i)
+  {
+    const double d = n.dot(faceUnit[corners[i] / 3]);
+    if (d < m)
     {
-      const double d = n.dot(faceUnit[corners[i] / 3]);
-      if (d < m)
+      m = d;
+      if (worst)
       {
-        m = d;
-        if (worst)
-        {
-          *worst = corners[i] / 3;
-        }
+        *worst = corners[i] / 3;
       }
     }
-    return m;
-  };
-  std::vector<Vec> normal(nS, Vec::Zero());
+  }
+  return m;
+}
+
+bool LayerBuild::ComputeNormals()
+{
+  // ---- Vertex normals: area-weighted, made visible from every incident triangle, smoothed.
+  normal.assign(nS, Vec::Zero());
   for (std::size_t v = 0; v < nS; ++v)
   {
     if (rank[v] < 0)
@@ -415,8 +614,12 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     normal.swap(next);
   }
 
+  return true;
+}
+
+bool LayerBuild::BuildTrees()
+{
   // ---- The trees: obstacles and S itself.
-  std::vector<Triangle> obstacleTris, surfaceTris;
   for (std::size_t k = 0; k < nObstacles; ++k)
   {
     const double* t = obstacles + 9 * k;
@@ -426,8 +629,8 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
   {
     surfaceTris.emplace_back(P(X[tri[3 * t]]), P(X[tri[3 * t + 1]]), P(X[tri[3 * t + 2]]));
   }
-  Tree obstacleTree(obstacleTris.begin(), obstacleTris.end());
-  Tree surfaceTree(surfaceTris.begin(), surfaceTris.end());
+  obstacleTree.rebuild(obstacleTris.begin(), obstacleTris.end());
+  surfaceTree.rebuild(surfaceTris.begin(), surfaceTris.end());
   if (!obstacleTris.empty())
   {
     obstacleTree.accelerate_distance_queries();
@@ -443,33 +646,36 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
       }
     }
   }
-  const double gap = o.GapFraction;
-  // Free distance along a ray from x in direction d, skipping the S triangles
-  // that contain one of the points in `skip`.
-  auto freeDistance = [&](const Vec& x, const Vec& d, std::int64_t skipA, std::int64_t skipB) {
-    const Point origin = P(x);
-    const Ray ray(origin, Kernel::Vector_3(d.x(), d.y(), d.z()));
-    double dist = std::numeric_limits<double>::infinity();
-    if (!obstacleTris.empty())
-    {
-      dist = HitDistance(obstacleTree.first_intersection(ray), origin);
-    }
-    auto skip = [&](const TriangleIterator& it) {
-      const std::int64_t* f = tri + 3 * (it - surfaceTris.begin());
-      for (int k = 0; k < 3; ++k)
-      {
-        if (f[k] == skipA || f[k] == skipB)
-        {
-          return true;
-        }
-      }
-      return false;
-    };
-    return std::min(dist, HitDistance(surfaceTree.first_intersection(ray, skip), origin));
-  };
+  return true;
+}
 
+double LayerBuild::freeDistance(const Vec& x, const Vec& d, std::int64_t skipA, std::int64_t skipB) const
+{
+  const Point origin = P(x);
+  const Ray ray(origin, Kernel::Vector_3(d.x(), d.y(), d.z()));
+  double dist = std::numeric_limits<double>::infinity();
+  if (!obstacleTris.empty())
+  {
+    dist = HitDistance(obstacleTree.first_intersection(ray), origin);
+  }
+  auto skip = [&](const TriangleIterator& it) {
+    const std::int64_t* f = tri + 3 * (it - surfaceTris.begin());
+    for (int k = 0; k < 3; ++k)
+    {
+      if (f[k] == skipA || f[k] == skipB)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  return std::min(dist, HitDistance(surfaceTree.first_intersection(ray, skip), origin));
+}
+
+void LayerBuild::ComputeHeights()
+{
   // ---- Heights: H[2 v + s], s = 0 on the + side, 1 on the - side.
-  std::vector<double> H(2 * nS, 0.0);
+  H.assign(2 * nS, 0.0);
   for (std::size_t v = 0; v < nS; ++v)
   {
     if (rank[v] < 0)
@@ -479,7 +685,7 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     for (int s = 0; s < sides; ++s)
     {
       const Vec d = s == 0 ? normal[v] : Vec(-normal[v]);
-      H[2 * v + s] = std::min(Z, gap * freeDistance(X[v], d, static_cast<std::int64_t>(v), -1));
+      H[2 * v + s] = std::min(Z, o.GapFraction * freeDistance(X[v], d, static_cast<std::int64_t>(v), -1));
     }
   }
   {
@@ -509,46 +715,53 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
       }
     }
   }
-  const double g = o.MaxHeightGradient;
-  auto grade = [&]() {
-    using Item = std::pair<double, std::int64_t>;
-    for (int s = 0; s < sides; ++s)
+  Grade();
+}
+
+// |H_u - H_v| <= MaxHeightGradient |x_u - x_v| along S's edges: Dijkstra from the lowest columns.
+void LayerBuild::Grade()
+{
+  using Item = std::pair<double, std::int64_t>;
+  for (int s = 0; s < sides; ++s)
+  {
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    for (std::size_t v = 0; v < nS; ++v)
     {
-      std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-      for (std::size_t v = 0; v < nS; ++v)
+      if (rank[v] >= 0)
       {
-        if (rank[v] >= 0)
-        {
-          heap.emplace(H[2 * v + s], static_cast<std::int64_t>(v));
-        }
+        heap.emplace(H[2 * v + s], static_cast<std::int64_t>(v));
       }
-      while (!heap.empty())
+    }
+    while (!heap.empty())
+    {
+      const auto [h, v] = heap.top();
+      heap.pop();
+      if (h > H[2 * v + s])
       {
-        const auto [h, v] = heap.top();
-        heap.pop();
-        if (h > H[2 * v + s])
+        continue;
+      }
+      for (std::int64_t i = nStart[v]; i < nStart[v + 1]; ++i)
+      {
+        const std::int64_t u = nbrs[i];
+        const double cand = h + o.MaxHeightGradient * (X[u] - X[v]).norm();
+        if (cand < H[2 * u + s])
         {
-          continue;
-        }
-        for (std::int64_t i = nStart[v]; i < nStart[v + 1]; ++i)
-        {
-          const std::int64_t u = nbrs[i];
-          const double cand = h + g * (X[u] - X[v]).norm();
-          if (cand < H[2 * u + s])
-          {
-            H[2 * u + s] = cand;
-            heap.emplace(cand, u);
-          }
+          H[2 * u + s] = cand;
+          heap.emplace(cand, u);
         }
       }
     }
-  };
-  grade();
+  }
+}
 
+void LayerBuild::ComputeBorderOffsets()
+{
   // ---- Border closure: per border edge the apex offset d_e.
-  const std::size_t nB = borderEdges.size();
-  std::vector<double> dEdge(nB, 0.0), lEdge(nB, 0.0);
-  std::vector<Vec> tEdge(nB), nEdge(nB);
+  nB = borderEdges.size();
+  dEdge.assign(nB, 0.0);
+  lEdge.assign(nB, 0.0);
+  tEdge.resize(nB);
+  nEdge.resize(nB);
   for (std::size_t e = 0; e < nB; ++e)
   {
     const std::int64_t a = tail(borderEdges[e]), b = head(borderEdges[e]);
@@ -556,36 +769,37 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     nEdge[e] = (normal[a] + normal[b]).normalized();
     tEdge[e] = (X[b] - X[a]).cross(nEdge[e]).normalized();
     const Vec m = 0.5 * (X[a] + X[b]);
-    dEdge[e] = std::min(0.5 * lEdge[e], gap * freeDistance(m, tEdge[e], a, b));
+    dEdge[e] = std::min(0.5 * lEdge[e], o.GapFraction * freeDistance(m, tEdge[e], a, b));
     if (!obstacleTris.empty())
     {
       // Not nearer to an obstacle than GapFraction of its distance in any direction.
-      dEdge[e] = std::min(dEdge[e], gap * std::sqrt(CGAL::to_double(obstacleTree.squared_distance(P(m)))));
+      dEdge[e] = std::min(dEdge[e], o.GapFraction * std::sqrt(CGAL::to_double(obstacleTree.squared_distance(P(m)))));
     }
   }
+}
 
+std::int64_t LayerBuild::id(std::int64_t v, int k) const
+{
+  if (k == 0)
+  {
+    return v;
+  }
+  const int s = k > 0 ? 0 : 1;
+  const int layer = k > 0 ? k : -k;
+  return static_cast<std::int64_t>(nS) + (static_cast<std::int64_t>(s * N + layer - 1) * static_cast<std::int64_t>(nUsed) + rank[v]);
+}
+
+void LayerBuild::NumberPoints()
+{
   // ---- Point ids.
   const std::size_t nLayerPoints = static_cast<std::size_t>(sides) * N * nUsed;
-  const std::int64_t firstApex = static_cast<std::int64_t>(nS + nLayerPoints);
-  auto id = [&](std::int64_t v, int k) -> std::int64_t {
-    if (k == 0)
-    {
-      return v;
-    }
-    const int s = k > 0 ? 0 : 1;
-    const int layer = k > 0 ? k : -k;
-    return static_cast<std::int64_t>(nS) + (static_cast<std::int64_t>(s * N + layer - 1) * static_cast<std::int64_t>(nUsed) + rank[v]);
-  };
-  const int lo = o.BothSides ? -N : 0, hi = N;
-  // Signed distance from S of column index k in [lo, hi]: requested, and at point v.
-  auto requested = [&](int k) { return k >= 0 ? z[k] : -z[-k]; };
-  auto height = [&](std::int64_t v, int k) {
-    return k >= 0 ? z[k] * H[2 * v] / Z : -z[-k] * H[2 * v + 1] / Z;
-  };
+  firstApex = static_cast<std::int64_t>(nS + nLayerPoints);
+  lo = o.BothSides ? -N : 0;
+  hi = N;
   // The border closure groups the layers of a column, K_0 = lo < .. < K_m =
   // hi, each group about one border edge high: one apex per group and edge,
   // so that the triangles the void sees are not needles on a tall stack.
-  std::vector<int> K = { lo };
+  K = { lo };
   if (nB > 0)
   {
     double meanEdge = 0.0;
@@ -617,14 +831,13 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     }
   }
   K.push_back(hi);
-  const int nGroups = static_cast<int>(K.size()) - 1;
-  auto groupMid = [&](std::int64_t v, int g) { return 0.5 * (height(v, K[g]) + height(v, K[g + 1])); };
-  // Layer and side of the layer between column indices k and k + 1.
-  auto layerOf = [](int k) { return k >= 0 ? k : -k - 1; };
-  auto sideOf = [](int k) { return k >= 0 ? 1 : -1; };
+  nGroups = static_cast<int>(K.size()) - 1;
+}
 
+bool LayerBuild::ComputePrismFloors()
+{
   // Prism corner floors from the normals (layer 0's bottom corners, which do not depend on height).
-  std::vector<double> prismFloor(nT);
+  prismFloor.resize(nT);
   for (std::size_t t = 0; t < nT; ++t)
   {
     const std::int64_t* f = tri + 3 * t;
@@ -643,465 +856,459 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     prismFloor[t] = std::min(0.05, 0.5 * j0);
   }
 
-  // ---- Build, check, shrink.
-  std::vector<double>& pts = out.Points;
-  std::vector<Vec> apex; // apex positions, id firstApex + index
-  std::vector<std::int64_t> apexSource; // the S point each apex stands beside
-  std::vector<char> shrinkH(2 * nS, 0), shrinkD(nB, 0);
-  struct Source
+  return true;
+}
+
+// ---- A round: every column still at least MinHeightFraction of the stack.
+bool LayerBuild::CheckHeights()
+{
+  for (std::size_t v = 0; v < nS; ++v)
   {
-    int Kind;
-    std::int64_t Ref;
-    int Side;
-  };
-  std::vector<Source> outerSource;
-  const std::size_t nPrisms = nT * static_cast<std::size_t>(sides * N);
-  out.Prisms.reserve(6 * nPrisms);
-  out.PrismLayer.reserve(nPrisms);
-  out.PrismSide.reserve(nPrisms);
-  out.PrismTriangle.reserve(nPrisms);
-  out.OuterTriangles.reserve(6 * nT + 12 * nB);
-  int round = 0;
-  for (;; ++round)
-  {
-    if (round >= MaxRounds)
+    for (int s = 0; s < sides; ++s)
     {
-      error = "the prism layers could not be made valid in " + std::to_string(MaxRounds) + " rounds.";
-      return false;
-    }
-    for (std::size_t v = 0; v < nS; ++v)
-    {
-      for (int s = 0; s < sides; ++s)
+      if (rank[v] >= 0 && H[2 * v + s] < MinHeightFraction * Z)
       {
-        if (rank[v] >= 0 && H[2 * v + s] < MinHeightFraction * Z)
+        std::ostringstream msg;
+        msg << "the prism layers cannot stand at point " << v << " of the surface on its "
+            << (s == 0 ? "+" : "-") << " side: an obstacle or another part of the surface is "
+            << "too close (the stack would have to shrink below " << MinHeightFraction
+            << " of its height " << Z << ").";
+        error = msg.str();
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+bool LayerBuild::PlaceWedges()
+{
+  // Apices of the fans (one per border edge and group) and the wedges
+  // between them at border points; d_e is lowered where the fans of a
+  // border point come closer than MinWedgeAngle.
+  wedges.assign(nB, Wedge());
+  for (int pass = 0;; ++pass)
+  {
+    std::vector<char> lower(nB, 0);
+    bool bad = false;
+    for (std::size_t e = 0; e < nB; ++e)
+    {
+      // The wedge at a = head of edge e: between e (p -> a) and the outgoing edge f (a -> q).
+      const std::int64_t a = head(borderEdges[e]);
+      const std::int64_t f = outBorder[a];
+      const std::int64_t p = tail(borderEdges[e]);
+      const Vec n = normal[a];
+      auto project = [&](const Vec& w) { return Vec(w - n.dot(w) * n); };
+      Wedge& w = wedges[e];
+      w.Phi1.assign(nGroups, 0.0);
+      w.Gamma.assign(nGroups, 0.0);
+      w.Rho.assign(nGroups, 0.0);
+      w.XAxis.assign(nGroups, Vec::Zero());
+      w.YAxis.assign(nGroups, Vec::Zero());
+      w.Pieces = 1;
+      for (int g = 0; g < nGroups; ++g)
+      {
+        // Angles around a's column in the plane normal to it, from the direction to p's column.
+        w.XAxis[g] = project(columnAt(p, g) - columnAt(a, g)).normalized();
+        w.YAxis[g] = n.cross(w.XAxis[g]);
+        auto angle = [&](const Vec& x) {
+          const Vec r = x - X[a];
+          double phi = std::atan2(r.dot(w.YAxis[g]), r.dot(w.XAxis[g]));
+          return phi < 0.0 ? phi + 2.0 * Pi : phi;
+        };
+        const Vec p1 = apexOf(e, g), p2 = apexOf(static_cast<std::size_t>(f), g);
+        double phi1 = angle(p1);
+        if (phi1 > 1.5 * Pi)
         {
-          std::ostringstream msg;
-          msg << "the prism layers cannot stand at point " << v << " of the surface on its "
-              << (s == 0 ? "+" : "-") << " side: an obstacle or another part of the surface is "
-              << "too close (the stack would have to shrink below " << MinHeightFraction
-              << " of its height " << Z << ").";
-          error = msg.str();
+          phi1 -= 2.0 * Pi;
+        }
+        w.Phi1[g] = phi1;
+        w.Gamma[g] = angle(p2) - phi1;
+        w.Rho[g] = 0.5 * (project(p1 - X[a]).norm() + project(p2 - X[a]).norm());
+        w.Pieces = std::max(w.Pieces, static_cast<int>(std::ceil(w.Gamma[g] / (0.5 * Pi) - 1e-9)));
+        if (w.Gamma[g] < MinWedgeAngle)
+        {
+          lower[e] = lower[f] = 1;
+          bad = true;
+        }
+      }
+    }
+    if (!bad)
+    {
+      break;
+    }
+    if (pass == 40)
+    {
+      for (std::size_t e = 0; e < nB; ++e)
+      {
+        if (*std::min_element(wedges[e].Gamma.begin(), wedges[e].Gamma.end()) < MinWedgeAngle)
+        {
+          error = "the border of the surface turns back too sharply at point " +
+            std::to_string(head(borderEdges[e])) + " to close the prism layers there.";
           return false;
         }
       }
     }
-    // Apices of the fans (one per border edge and group) and the wedges
-    // between them at border points; d_e is lowered where the fans of a
-    // border point come closer than MinWedgeAngle.
-    struct Wedge
-    {
-      std::vector<double> Phi1, Gamma, Rho; // per group
-      std::vector<Vec> XAxis, YAxis;        // per group
-      int Pieces = 1;
-    };
-    // Point v's column at group g's mid-height.
-    auto columnAt = [&](std::int64_t v, int g) { return Vec(X[v] + groupMid(v, g) * normal[v]); };
-    // The apex beside the middle of edge (a, b) at group g's mid-height:
-    // d_e out in the plane of the column points there.
-    auto apexOf = [&](std::size_t edge, int g) {
-      const std::int64_t ea = tail(borderEdges[edge]), eb = head(borderEdges[edge]);
-      const Vec ca = columnAt(ea, g), cb = columnAt(eb, g);
-      return Vec(0.5 * (ca + cb) + dEdge[edge] * (cb - ca).cross(nEdge[edge]).normalized());
-    };
-    std::vector<Wedge> wedges(nB);
-    for (int pass = 0;; ++pass)
-    {
-      std::vector<char> lower(nB, 0);
-      bool bad = false;
-      for (std::size_t e = 0; e < nB; ++e)
-      {
-        // The wedge at a = head of edge e: between e (p -> a) and the outgoing edge f (a -> q).
-        const std::int64_t a = head(borderEdges[e]);
-        const std::int64_t f = outBorder[a];
-        const std::int64_t p = tail(borderEdges[e]);
-        const Vec n = normal[a];
-        auto project = [&](const Vec& w) { return Vec(w - n.dot(w) * n); };
-        Wedge& w = wedges[e];
-        w.Phi1.assign(nGroups, 0.0);
-        w.Gamma.assign(nGroups, 0.0);
-        w.Rho.assign(nGroups, 0.0);
-        w.XAxis.assign(nGroups, Vec::Zero());
-        w.YAxis.assign(nGroups, Vec::Zero());
-        w.Pieces = 1;
-        for (int g = 0; g < nGroups; ++g)
-        {
-          // Angles around a's column in the plane normal to it, from the direction to p's column.
-          w.XAxis[g] = project(columnAt(p, g) - columnAt(a, g)).normalized();
-          w.YAxis[g] = n.cross(w.XAxis[g]);
-          auto angle = [&](const Vec& x) {
-            const Vec r = x - X[a];
-            double phi = std::atan2(r.dot(w.YAxis[g]), r.dot(w.XAxis[g]));
-            return phi < 0.0 ? phi + 2.0 * Pi : phi;
-          };
-          const Vec p1 = apexOf(e, g), p2 = apexOf(static_cast<std::size_t>(f), g);
-          double phi1 = angle(p1);
-          if (phi1 > 1.5 * Pi)
-          {
-            phi1 -= 2.0 * Pi;
-          }
-          w.Phi1[g] = phi1;
-          w.Gamma[g] = angle(p2) - phi1;
-          w.Rho[g] = 0.5 * (project(p1 - X[a]).norm() + project(p2 - X[a]).norm());
-          w.Pieces = std::max(w.Pieces, static_cast<int>(std::ceil(w.Gamma[g] / (0.5 * Pi) - 1e-9)));
-          if (w.Gamma[g] < MinWedgeAngle)
-          {
-            lower[e] = lower[f] = 1;
-            bad = true;
-          }
-        }
-      }
-      if (!bad)
-      {
-        break;
-      }
-      if (pass == 40)
-      {
-        for (std::size_t e = 0; e < nB; ++e)
-        {
-          if (*std::min_element(wedges[e].Gamma.begin(), wedges[e].Gamma.end()) < MinWedgeAngle)
-          {
-            error = "the border of the surface turns back too sharply at point " +
-              std::to_string(head(borderEdges[e])) + " to close the prism layers there.";
-            return false;
-          }
-        }
-      }
-      for (std::size_t e = 0; e < nB; ++e)
-      {
-        dEdge[e] *= lower[e] ? 0.7 : 1.0;
-      }
-    }
-    // Apex ids: edge e, group g -> firstApex + e * nGroups + g; then the wedges' inner points.
-    apex.clear();
-    apexSource.clear();
     for (std::size_t e = 0; e < nB; ++e)
     {
-      for (int g = 0; g < nGroups; ++g)
-      {
-        apex.push_back(apexOf(e, g));
-        apexSource.push_back(tail(borderEdges[e]));
-      }
+      dEdge[e] *= lower[e] ? 0.7 : 1.0;
     }
-    auto edgeApex = [&](std::int64_t e, int g) { return firstApex + e * nGroups + g; };
-    // W[e][g]: the wedge at head(e) in group g, W_0 = e's apex .. W_m = the outgoing edge's.
-    std::vector<std::vector<std::vector<std::int64_t>>> W(nB);
-    for (std::size_t e = 0; e < nB; ++e)
-    {
-      const std::int64_t a = head(borderEdges[e]);
-      const Wedge& w = wedges[e];
-      W[e].resize(nGroups);
-      for (int g = 0; g < nGroups; ++g)
-      {
-        W[e][g].push_back(edgeApex(static_cast<std::int64_t>(e), g));
-        for (int j = 1; j < w.Pieces; ++j)
-        {
-          const double phi = w.Phi1[g] + j * w.Gamma[g] / w.Pieces;
-          W[e][g].push_back(firstApex + static_cast<std::int64_t>(apex.size()));
-          apexSource.push_back(a);
-          apex.push_back(columnAt(a, g) + w.Rho[g] * (std::cos(phi) * w.XAxis[g] + std::sin(phi) * w.YAxis[g]));
-        }
-        W[e][g].push_back(edgeApex(outBorder[a], g));
-      }
-    }
+  }
+  return true;
+}
 
-    // Points.
-    pts.assign(3 * (static_cast<std::size_t>(firstApex) + apex.size()), 0.0);
-    for (std::size_t v = 0; v < nS; ++v)
+void LayerBuild::PlaceApices()
+{
+  // Apex ids: edge e, group g -> firstApex + e * nGroups + g; then the wedges' inner points.
+  apex.clear();
+  apexSource.clear();
+  for (std::size_t e = 0; e < nB; ++e)
+  {
+    for (int g = 0; g < nGroups; ++g)
     {
-      std::copy(xyz + 3 * v, xyz + 3 * v + 3, &pts[3 * v]);
-      if (rank[v] < 0)
+      apex.push_back(apexOf(e, g));
+      apexSource.push_back(tail(borderEdges[e]));
+    }
+  }
+  // W[e][g]: the wedge at head(e) in group g, W_0 = e's apex .. W_m = the outgoing edge's.
+  W.assign(nB, {});
+  for (std::size_t e = 0; e < nB; ++e)
+  {
+    const std::int64_t a = head(borderEdges[e]);
+    const Wedge& w = wedges[e];
+    W[e].resize(nGroups);
+    for (int g = 0; g < nGroups; ++g)
+    {
+      W[e][g].push_back(edgeApex(static_cast<std::int64_t>(e), g));
+      for (int j = 1; j < w.Pieces; ++j)
+      {
+        const double phi = w.Phi1[g] + j * w.Gamma[g] / w.Pieces;
+        W[e][g].push_back(firstApex + static_cast<std::int64_t>(apex.size()));
+        apexSource.push_back(a);
+        apex.push_back(columnAt(a, g) + w.Rho[g] * (std::cos(phi) * w.XAxis[g] + std::sin(phi) * w.YAxis[g]));
+      }
+      W[e][g].push_back(edgeApex(outBorder[a], g));
+    }
+  }
+}
+
+void LayerBuild::WritePoints()
+{
+  // Points.
+  out.Points.assign(3 * (static_cast<std::size_t>(firstApex) + apex.size()), 0.0);
+  for (std::size_t v = 0; v < nS; ++v)
+  {
+    std::copy(xyz + 3 * v, xyz + 3 * v + 3, &out.Points[3 * v]);
+    if (rank[v] < 0)
+    {
+      continue;
+    }
+    for (int k = lo; k <= hi; ++k)
+    {
+      if (k == 0)
       {
         continue;
       }
-      for (int k = lo; k <= hi; ++k)
-      {
-        if (k == 0)
-        {
-          continue;
-        }
-        const int s = k > 0 ? 0 : 1;
-        const double h = z[k > 0 ? k : -k] * H[2 * v + s] / Z;
-        const Vec x = X[v] + (k > 0 ? h : -h) * normal[v];
-        const std::int64_t i = id(static_cast<std::int64_t>(v), k);
-        pts[3 * i] = x.x();
-        pts[3 * i + 1] = x.y();
-        pts[3 * i + 2] = x.z();
-      }
+      const int s = k > 0 ? 0 : 1;
+      const double h = z[k > 0 ? k : -k] * H[2 * v + s] / Z;
+      const Vec x = X[v] + (k > 0 ? h : -h) * normal[v];
+      const std::int64_t i = id(static_cast<std::int64_t>(v), k);
+      out.Points[3 * i] = x.x();
+      out.Points[3 * i + 1] = x.y();
+      out.Points[3 * i + 2] = x.z();
     }
-    for (std::size_t i = 0; i < apex.size(); ++i)
+  }
+  for (std::size_t i = 0; i < apex.size(); ++i)
+  {
+    for (int d = 0; d < 3; ++d)
     {
-      for (int d = 0; d < 3; ++d)
-      {
-        pts[3 * (firstApex + i) + d] = apex[i][d];
-      }
+      out.Points[3 * (firstApex + i) + d] = apex[i][d];
     }
-    auto x = [&](std::int64_t i) { return At(&pts[3 * i]); };
+  }
+}
 
-    // Cells.
-    out.Prisms.clear();
-    out.PrismLayer.clear();
-    out.PrismSide.clear();
-    out.PrismTriangle.clear();
-    out.Pyramids.clear();
-    out.PyramidLayer.clear();
-    out.PyramidSide.clear();
-    out.Tetrahedra.clear();
-    out.TetrahedronLayer.clear();
-    out.TetrahedronSide.clear();
-    std::fill(shrinkH.begin(), shrinkH.end(), 0);
-    std::fill(shrinkD.begin(), shrinkD.end(), 0);
-    bool shrink = false;
-    for (std::size_t t = 0; t < nT; ++t)
+void LayerBuild::addTet(const std::array<std::int64_t, 4>& q, int k, std::int64_t edge1, std::int64_t edge2,
+  std::int64_t point)
+{
+  const Vec p0 = x(q[0]), p1 = x(q[1]), p2 = x(q[2]), p3 = x(q[3]);
+  const double scale = std::max({ (p1 - p0).norm(), (p2 - p0).norm(), (p3 - p0).norm() });
+  if (!(Det(p1 - p0, p2 - p0, p3 - p0) > 1e-12 * scale * scale * scale))
+  {
+    shrinkD[edge1] = shrinkD[edge2] = 1;
+    shrinkH[2 * point + (k >= 0 ? 0 : 1)] = 1;
+    shrink = true;
+  }
+  out.Tetrahedra.insert(out.Tetrahedra.end(), q.begin(), q.end());
+  out.TetrahedronLayer.push_back(layerOf(k));
+  out.TetrahedronSide.push_back(sideOf(k));
+}
+
+void LayerBuild::BuildCells()
+{
+  // Cells.
+  out.Prisms.clear();
+  out.PrismLayer.clear();
+  out.PrismSide.clear();
+  out.PrismTriangle.clear();
+  out.Pyramids.clear();
+  out.PyramidLayer.clear();
+  out.PyramidSide.clear();
+  out.Tetrahedra.clear();
+  out.TetrahedronLayer.clear();
+  out.TetrahedronSide.clear();
+  std::fill(shrinkH.begin(), shrinkH.end(), 0);
+  std::fill(shrinkD.begin(), shrinkD.end(), 0);
+  shrink = false;
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const std::int64_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+    for (int s = 0; s < sides; ++s)
     {
-      const std::int64_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
-      for (int s = 0; s < sides; ++s)
+      for (int k = 0; k < N; ++k)
       {
-        for (int k = 0; k < N; ++k)
+        std::array<std::int64_t, 6> w;
+        if (s == 0)
         {
-          std::array<std::int64_t, 6> w;
-          if (s == 0)
-          {
-            w = { id(a, k), id(c, k), id(b, k), id(a, k + 1), id(c, k + 1), id(b, k + 1) };
-          }
-          else
-          {
-            w = { id(a, -k), id(b, -k), id(c, -k), id(a, -k - 1), id(b, -k - 1), id(c, -k - 1) };
-          }
-          double p[18], j[6];
-          for (int i = 0; i < 6; ++i)
-          {
-            std::copy(&pts[3 * w[i]], &pts[3 * w[i]] + 3, p + 3 * i);
-          }
-          CellCornerJacobians(CellShape::Wedge, p, j, true);
-          const double topArea = (At(p + 12) - At(p + 9)).cross(At(p + 15) - At(p + 9)).norm();
-          if (*std::min_element(j, j + 6) < prismFloor[t] || topArea < MinAreaRatio * faceNormal[t].norm())
-          {
-            shrinkH[2 * a + s] = shrinkH[2 * b + s] = shrinkH[2 * c + s] = 1;
-            shrink = true;
-          }
-          out.Prisms.insert(out.Prisms.end(), w.begin(), w.end());
-          out.PrismLayer.push_back(k);
-          out.PrismSide.push_back(s == 0 ? 1 : -1);
-          out.PrismTriangle.push_back(static_cast<std::int64_t>(t));
+          w = { id(a, k), id(c, k), id(b, k), id(a, k + 1), id(c, k + 1), id(b, k + 1) };
         }
+        else
+        {
+          w = { id(a, -k), id(b, -k), id(c, -k), id(a, -k - 1), id(b, -k - 1), id(c, -k - 1) };
+        }
+        double p[18], j[6];
+        for (int i = 0; i < 6; ++i)
+        {
+          std::copy(&out.Points[3 * w[i]], &out.Points[3 * w[i]] + 3, p + 3 * i);
+        }
+        CellCornerJacobians(CellShape::Wedge, p, j, true);
+        const double topArea = (At(p + 12) - At(p + 9)).cross(At(p + 15) - At(p + 9)).norm();
+        if (*std::min_element(j, j + 6) < prismFloor[t] || topArea < MinAreaRatio * faceNormal[t].norm())
+        {
+          shrinkH[2 * a + s] = shrinkH[2 * b + s] = shrinkH[2 * c + s] = 1;
+          shrink = true;
+        }
+        out.Prisms.insert(out.Prisms.end(), w.begin(), w.end());
+        out.PrismLayer.push_back(k);
+        out.PrismSide.push_back(s == 0 ? 1 : -1);
+        out.PrismTriangle.push_back(static_cast<std::int64_t>(t));
       }
     }
-    auto addTet = [&](const std::array<std::int64_t, 4>& q, int k, std::int64_t edge1, std::int64_t edge2,
-                    std::int64_t point) {
-      const Vec p0 = x(q[0]), p1 = x(q[1]), p2 = x(q[2]), p3 = x(q[3]);
-      const double scale = std::max({ (p1 - p0).norm(), (p2 - p0).norm(), (p3 - p0).norm() });
-      if (!(Det(p1 - p0, p2 - p0, p3 - p0) > 1e-12 * scale * scale * scale))
-      {
-        shrinkD[edge1] = shrinkD[edge2] = 1;
-        shrinkH[2 * point + (k >= 0 ? 0 : 1)] = 1;
-        shrink = true;
-      }
-      out.Tetrahedra.insert(out.Tetrahedra.end(), q.begin(), q.end());
-      out.TetrahedronLayer.push_back(layerOf(k));
-      out.TetrahedronSide.push_back(sideOf(k));
-    };
-    for (std::size_t e = 0; e < nB; ++e)
+  }
+  for (std::size_t e = 0; e < nB; ++e)
+  {
+    // The fan of pyramids on edge e's column of quads, one apex per group,
+    // and between groups a seam tetrahedron (a_K, b_K, P_g+1, P_g).
+    const std::int64_t a = tail(borderEdges[e]), b = head(borderEdges[e]);
+    const auto ee = static_cast<std::int64_t>(e);
+    const double floor = std::min(0.05, 0.25 * dEdge[e] / std::hypot(dEdge[e], 0.5 * lEdge[e]));
+    for (int g = 0; g < nGroups; ++g)
     {
-      // The fan of pyramids on edge e's column of quads, one apex per group,
-      // and between groups a seam tetrahedron (a_K, b_K, P_g+1, P_g).
-      const std::int64_t a = tail(borderEdges[e]), b = head(borderEdges[e]);
-      const auto ee = static_cast<std::int64_t>(e);
-      const double floor = std::min(0.05, 0.25 * dEdge[e] / std::hypot(dEdge[e], 0.5 * lEdge[e]));
-      for (int g = 0; g < nGroups; ++g)
+      for (int k = K[g]; k < K[g + 1]; ++k)
+      {
+        const std::array<std::int64_t, 5> q = { id(a, k), id(b, k), id(b, k + 1), id(a, k + 1), edgeApex(ee, g) };
+        double p[15], j[5]; // the four base corners, then the apex
+        for (int i = 0; i < 5; ++i)
+        {
+          std::copy(&out.Points[3 * q[i]], &out.Points[3 * q[i]] + 3, p + 3 * i);
+        }
+        CellCornerJacobians(CellShape::Pyramid, p, j, true);
+        if (*std::min_element(j, j + 4) < floor)
+        {
+          shrinkH[2 * a + (k >= 0 ? 0 : 1)] = shrinkH[2 * b + (k >= 0 ? 0 : 1)] = 1;
+          shrink = true;
+        }
+        out.Pyramids.insert(out.Pyramids.end(), q.begin(), q.end());
+        out.PyramidLayer.push_back(layerOf(k));
+        out.PyramidSide.push_back(sideOf(k));
+      }
+      if (g + 1 < nGroups)
+      {
+        const int k = K[g + 1];
+        addTet({ id(a, k), id(b, k), edgeApex(ee, g + 1), edgeApex(ee, g) }, k - 1, ee, ee, a);
+      }
+    }
+  }
+  for (std::size_t e = 0; e < nB; ++e)
+  {
+    // The wedge at a = head(e): per group and piece a tetrahedron per layer;
+    // between groups two seam tetrahedra per piece.
+    const std::int64_t a = head(borderEdges[e]);
+    const auto ee = static_cast<std::int64_t>(e);
+    const std::int64_t f = outBorder[a];
+    for (int g = 0; g < nGroups; ++g)
+    {
+      const std::vector<std::int64_t>& w = W[e][g];
+      for (std::size_t j = 0; j + 1 < w.size(); ++j)
       {
         for (int k = K[g]; k < K[g + 1]; ++k)
         {
-          const std::array<std::int64_t, 5> q = { id(a, k), id(b, k), id(b, k + 1), id(a, k + 1), edgeApex(ee, g) };
-          double p[15], j[5]; // the four base corners, then the apex
-          for (int i = 0; i < 5; ++i)
-          {
-            std::copy(&pts[3 * q[i]], &pts[3 * q[i]] + 3, p + 3 * i);
-          }
-          CellCornerJacobians(CellShape::Pyramid, p, j, true);
-          if (*std::min_element(j, j + 4) < floor)
-          {
-            shrinkH[2 * a + (k >= 0 ? 0 : 1)] = shrinkH[2 * b + (k >= 0 ? 0 : 1)] = 1;
-            shrink = true;
-          }
-          out.Pyramids.insert(out.Pyramids.end(), q.begin(), q.end());
-          out.PyramidLayer.push_back(layerOf(k));
-          out.PyramidSide.push_back(sideOf(k));
+          addTet({ id(a, k), id(a, k + 1), w[j], w[j + 1] }, k, ee, f, a);
         }
         if (g + 1 < nGroups)
         {
           const int k = K[g + 1];
-          addTet({ id(a, k), id(b, k), edgeApex(ee, g + 1), edgeApex(ee, g) }, k - 1, ee, ee, a);
+          const std::vector<std::int64_t>& u = W[e][g + 1];
+          addTet({ id(a, k), w[j], w[j + 1], u[j + 1] }, k - 1, ee, f, a);
+          addTet({ id(a, k), w[j], u[j + 1], u[j] }, k - 1, ee, f, a);
         }
       }
     }
-    for (std::size_t e = 0; e < nB; ++e)
+  }
+}
+
+void LayerBuild::addOuter(std::int64_t p, std::int64_t q, std::int64_t r, int kind, std::int64_t ref, int side)
+{
+  out.OuterTriangles.insert(out.OuterTriangles.end(), { p, q, r });
+  out.OuterTriangleKind.push_back(kind);
+  outerSource.push_back(Source{ kind, ref, side });
+}
+
+void LayerBuild::BuildOuterSurface()
+{
+  // The outer surface.
+  out.OuterTriangles.clear();
+  out.OuterTriangleKind.clear();
+  outerSource.clear();
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const std::int64_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+    addOuter(id(a, hi), id(b, hi), id(c, hi), 0, static_cast<std::int64_t>(t), 0);
+    addOuter(id(a, lo), id(c, lo), id(b, lo), 1, static_cast<std::int64_t>(t), 1);
+  }
+  for (std::size_t e = 0; e < nB; ++e)
+  {
+    const std::int64_t a = tail(borderEdges[e]), b = head(borderEdges[e]);
+    const auto ee = static_cast<std::int64_t>(e);
+    addOuter(id(b, hi), id(a, hi), edgeApex(ee, nGroups - 1), 2, ee, 0);
+    addOuter(id(a, lo), id(b, lo), edgeApex(ee, 0), 2, ee, 1);
+  }
+  for (std::size_t e = 0; e < nB; ++e)
+  {
+    const std::int64_t a = head(borderEdges[e]);
+    const auto ee = static_cast<std::int64_t>(e);
+    for (std::size_t j = 0; j + 1 < W[e][0].size(); ++j)
     {
-      // The wedge at a = head(e): per group and piece a tetrahedron per layer;
-      // between groups two seam tetrahedra per piece.
-      const std::int64_t a = head(borderEdges[e]);
-      const auto ee = static_cast<std::int64_t>(e);
-      const std::int64_t f = outBorder[a];
-      for (int g = 0; g < nGroups; ++g)
+      const std::vector<std::int64_t>& top = W[e][nGroups - 1];
+      const std::vector<std::int64_t>& bottom = W[e][0];
+      addOuter(id(a, hi), top[j], top[j + 1], 3, ee, 0);
+      addOuter(id(a, lo), bottom[j + 1], bottom[j], 3, ee, 1);
+      for (int g = 0; g + 1 < nGroups; ++g)
       {
         const std::vector<std::int64_t>& w = W[e][g];
-        for (std::size_t j = 0; j + 1 < w.size(); ++j)
-        {
-          for (int k = K[g]; k < K[g + 1]; ++k)
-          {
-            addTet({ id(a, k), id(a, k + 1), w[j], w[j + 1] }, k, ee, f, a);
-          }
-          if (g + 1 < nGroups)
-          {
-            const int k = K[g + 1];
-            const std::vector<std::int64_t>& u = W[e][g + 1];
-            addTet({ id(a, k), w[j], w[j + 1], u[j + 1] }, k - 1, ee, f, a);
-            addTet({ id(a, k), w[j], u[j + 1], u[j] }, k - 1, ee, f, a);
-          }
-        }
+        const std::vector<std::int64_t>& u = W[e][g + 1];
+        const int side = K[g + 1] > 0 ? 0 : 1;
+        addOuter(w[j], w[j + 1], u[j + 1], 3, ee, side);
+        addOuter(w[j], u[j + 1], u[j], 3, ee, side);
       }
     }
-
-    // The outer surface.
-    out.OuterTriangles.clear();
-    out.OuterTriangleKind.clear();
-    outerSource.clear();
-    auto addOuter = [&](std::int64_t p, std::int64_t q, std::int64_t r, int kind, std::int64_t ref, int side) {
-      out.OuterTriangles.insert(out.OuterTriangles.end(), { p, q, r });
-      out.OuterTriangleKind.push_back(kind);
-      outerSource.push_back(Source{ kind, ref, side });
-    };
-    for (std::size_t t = 0; t < nT; ++t)
-    {
-      const std::int64_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
-      addOuter(id(a, hi), id(b, hi), id(c, hi), 0, static_cast<std::int64_t>(t), 0);
-      addOuter(id(a, lo), id(c, lo), id(b, lo), 1, static_cast<std::int64_t>(t), 1);
-    }
-    for (std::size_t e = 0; e < nB; ++e)
-    {
-      const std::int64_t a = tail(borderEdges[e]), b = head(borderEdges[e]);
-      const auto ee = static_cast<std::int64_t>(e);
-      addOuter(id(b, hi), id(a, hi), edgeApex(ee, nGroups - 1), 2, ee, 0);
-      addOuter(id(a, lo), id(b, lo), edgeApex(ee, 0), 2, ee, 1);
-    }
-    for (std::size_t e = 0; e < nB; ++e)
-    {
-      const std::int64_t a = head(borderEdges[e]);
-      const auto ee = static_cast<std::int64_t>(e);
-      for (std::size_t j = 0; j + 1 < W[e][0].size(); ++j)
-      {
-        const std::vector<std::int64_t>& top = W[e][nGroups - 1];
-        const std::vector<std::int64_t>& bottom = W[e][0];
-        addOuter(id(a, hi), top[j], top[j + 1], 3, ee, 0);
-        addOuter(id(a, lo), bottom[j + 1], bottom[j], 3, ee, 1);
-        for (int g = 0; g + 1 < nGroups; ++g)
-        {
-          const std::vector<std::int64_t>& w = W[e][g];
-          const std::vector<std::int64_t>& u = W[e][g + 1];
-          const int side = K[g + 1] > 0 ? 0 : 1;
-          addOuter(w[j], w[j + 1], u[j + 1], 3, ee, side);
-          addOuter(w[j], u[j + 1], u[j], 3, ee, side);
-        }
-      }
-    }
-    const std::size_t nOuter = out.OuterTriangleKind.size();
-    std::vector<char> outerBad(nOuter, 0);
-    // Against the obstacles.
-    std::vector<Triangle> outerTris;
-    outerTris.reserve(nOuter);
-    for (std::size_t t = 0; t < nOuter; ++t)
-    {
-      const std::int64_t* f = &out.OuterTriangles[3 * t];
-      outerTris.emplace_back(P(x(f[0])), P(x(f[1])), P(x(f[2])));
-      if (!obstacleTris.empty() && obstacleTree.do_intersect(outerTris.back()))
-      {
-        outerBad[t] = 1;
-      }
-    }
-    // Against itself (and the other pieces' stacks).
-    {
-      namespace PMP = CGAL::Polygon_mesh_processing;
-      std::vector<std::int64_t> soupIndex(pts.size() / 3, -1);
-      std::vector<Point> soupPoints;
-      std::vector<std::array<std::size_t, 3>> soup(nOuter);
-      for (std::size_t t = 0; t < nOuter; ++t)
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          const std::int64_t i = out.OuterTriangles[3 * t + k];
-          if (soupIndex[i] < 0)
-          {
-            soupIndex[i] = static_cast<std::int64_t>(soupPoints.size());
-            soupPoints.push_back(P(x(i)));
-          }
-          soup[t][k] = static_cast<std::size_t>(soupIndex[i]);
-        }
-      }
-      if (!PMP::is_polygon_soup_a_polygon_mesh(soup))
-      {
-        error = "internal error: the outer surface of the prism layers is not a closed manifold.";
-        return false;
-      }
-      CGAL::Surface_mesh<Point> mesh;
-      PMP::polygon_soup_to_polygon_mesh(soupPoints, soup, mesh);
-      if (mesh.number_of_faces() != nOuter)
-      {
-        error = "internal error: the outer surface of the prism layers lost faces.";
-        return false;
-      }
-      std::vector<std::pair<CGAL::Surface_mesh<Point>::Face_index, CGAL::Surface_mesh<Point>::Face_index>> pairs;
-      PMP::self_intersections(faces(mesh), mesh, std::back_inserter(pairs));
-      for (const auto& pr : pairs)
-      {
-        outerBad[static_cast<std::size_t>(pr.first)] = 1;
-        outerBad[static_cast<std::size_t>(pr.second)] = 1;
-      }
-    }
-    for (std::size_t t = 0; t < nOuter; ++t)
-    {
-      if (!outerBad[t])
-      {
-        continue;
-      }
-      shrink = true;
-      const Source& src = outerSource[t];
-      const int s = o.BothSides ? src.Side : 0;
-      if (src.Kind <= 1)
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          shrinkH[2 * tri[3 * src.Ref + k] + s] = 1;
-        }
-      }
-      else if (src.Kind == 2)
-      {
-        shrinkH[2 * tail(borderEdges[src.Ref]) + s] = shrinkH[2 * head(borderEdges[src.Ref]) + s] = 1;
-        shrinkD[src.Ref] = 1;
-      }
-      else
-      {
-        const std::int64_t a = head(borderEdges[src.Ref]);
-        shrinkH[2 * a + s] = 1;
-        shrinkD[src.Ref] = shrinkD[outBorder[a]] = 1;
-      }
-    }
-    if (!shrink)
-    {
-      break;
-    }
-    for (std::size_t i = 0; i < 2 * nS; ++i)
-    {
-      H[i] *= shrinkH[i] ? 0.7 : 1.0;
-    }
-    for (std::size_t e = 0; e < nB; ++e)
-    {
-      dEdge[e] *= shrinkD[e] ? 0.8 : 1.0;
-    }
-    grade();
   }
+}
 
-  // ---- Results.
+bool LayerBuild::CheckOuterSurface()
+{
+  const std::size_t nOuter = out.OuterTriangleKind.size();
+  std::vector<char> outerBad(nOuter, 0);
+  // Against the obstacles.
+  std::vector<Triangle> outerTris;
+  outerTris.reserve(nOuter);
+  for (std::size_t t = 0; t < nOuter; ++t)
+  {
+    const std::int64_t* f = &out.OuterTriangles[3 * t];
+    outerTris.emplace_back(P(x(f[0])), P(x(f[1])), P(x(f[2])));
+    if (!obstacleTris.empty() && obstacleTree.do_intersect(outerTris.back()))
+    {
+      outerBad[t] = 1;
+    }
+  }
+  // Against itself (and the other pieces' stacks).
+  {
+    namespace PMP = CGAL::Polygon_mesh_processing;
+    std::vector<std::int64_t> soupIndex(out.Points.size() / 3, -1);
+    std::vector<Point> soupPoints;
+    std::vector<std::array<std::size_t, 3>> soup(nOuter);
+    for (std::size_t t = 0; t < nOuter; ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const std::int64_t i = out.OuterTriangles[3 * t + k];
+        if (soupIndex[i] < 0)
+        {
+          soupIndex[i] = static_cast<std::int64_t>(soupPoints.size());
+          soupPoints.push_back(P(x(i)));
+        }
+        soup[t][k] = static_cast<std::size_t>(soupIndex[i]);
+      }
+    }
+    if (!PMP::is_polygon_soup_a_polygon_mesh(soup))
+    {
+      error = "internal error: the outer surface of the prism layers is not a closed manifold.";
+      return false;
+    }
+    CGAL::Surface_mesh<Point> mesh;
+    PMP::polygon_soup_to_polygon_mesh(soupPoints, soup, mesh);
+    if (mesh.number_of_faces() != nOuter)
+    {
+      error = "internal error: the outer surface of the prism layers lost faces.";
+      return false;
+    }
+    std::vector<std::pair<CGAL::Surface_mesh<Point>::Face_index, CGAL::Surface_mesh<Point>::Face_index>> pairs;
+    PMP::self_intersections(faces(mesh), mesh, std::back_inserter(pairs));
+    for (const auto& pr : pairs)
+    {
+      outerBad[static_cast<std::size_t>(pr.first)] = 1;
+      outerBad[static_cast<std::size_t>(pr.second)] = 1;
+    }
+  }
+  for (std::size_t t = 0; t < nOuter; ++t)
+  {
+    if (!outerBad[t])
+    {
+      continue;
+    }
+    shrink = true;
+    const Source& src = outerSource[t];
+    const int s = o.BothSides ? src.Side : 0;
+    if (src.Kind <= 1)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        shrinkH[2 * tri[3 * src.Ref + k] + s] = 1;
+      }
+    }
+    else if (src.Kind == 2)
+    {
+      shrinkH[2 * tail(borderEdges[src.Ref]) + s] = shrinkH[2 * head(borderEdges[src.Ref]) + s] = 1;
+      shrinkD[src.Ref] = 1;
+    }
+    else
+    {
+      const std::int64_t a = head(borderEdges[src.Ref]);
+      shrinkH[2 * a + s] = 1;
+      shrinkD[src.Ref] = shrinkD[outBorder[a]] = 1;
+    }
+  }
+  return true;
+}
+
+// Columns and closure offsets of the cells that failed shrink, and the heights are graded again.
+void LayerBuild::Shrink()
+{
+  for (std::size_t i = 0; i < 2 * nS; ++i)
+  {
+    H[i] *= shrinkH[i] ? 0.7 : 1.0;
+  }
+  for (std::size_t e = 0; e < nB; ++e)
+  {
+    dEdge[e] *= shrinkD[e] ? 0.8 : 1.0;
+  }
+  Grade();
+}
+
+// ---- Results.
+void LayerBuild::WriteResults()
+{
   out.NumberOfSurfacePoints = nS;
-  out.PointSource.resize(pts.size() / 3);
+  out.PointSource.resize(out.Points.size() / 3);
   for (std::size_t v = 0; v < nS; ++v)
   {
     out.PointSource[v] = static_cast<std::int64_t>(v);
@@ -1152,10 +1359,18 @@ bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri
     const std::int64_t* w = &out.Prisms[6 * (t * sides * N)];
     for (int i = 0; i < 6; ++i)
     {
-      c += At(&pts[3 * w[i]]) / 6.0;
+      c += At(&out.Points[3 * w[i]]) / 6.0;
     }
     out.HolePoints.insert(out.HolePoints.end(), { c.x(), c.y(), c.z() });
   }
-  return true;
+}
+
+}
+
+bool BuildPrismLayers(const double* xyz, std::size_t nS, const std::int64_t* tri, std::size_t nT,
+  const double* obstacles, std::size_t nObstacles, const PrismLayerOptions& o, PrismStack& out,
+  std::string& error)
+{
+  return LayerBuild(xyz, nS, tri, nT, obstacles, nObstacles, o, out, error).Execute();
 }
 }

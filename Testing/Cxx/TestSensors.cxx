@@ -12,11 +12,13 @@
 #include "vtkCommand.h"
 #include "vtkDataArraySelection.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -559,8 +561,22 @@ TEST(BadInput, SurfaceOnlyMesh)
 
 TEST(BadInput, WeightFunctionNoVariableAndMissingVariable)
 {
+  // No variable selected: the flow grid's rho, U, p by name (it has no
+  // conserved variables); a grid without such names is refused.
+  vtkNew<vtkWeightFunction> automatic;
+  automatic->SetInputData(FlowGrid());
+  automatic->Update();
+  auto* used = vtkStringArray::SafeDownCast(automatic->GetOutput()->GetFieldData()->GetAbstractArray("VariablesUsed"));
+  ASSERT_NE(used, nullptr);
+  ASSERT_EQ(used->GetNumberOfValues(), 3);
+  EXPECT_EQ(used->GetValue(0), "rho");
+  EXPECT_EQ(used->GetValue(1), "U");
+  EXPECT_EQ(used->GetValue(2), "p");
+  EXPECT_NE(automatic->GetOutput()->GetCellData()->GetArray("WeightFunction"), nullptr);
+  auto unnamed = MakeGrid(2, VTK_TETRA);
+  PointField(unnamed, "q", 1, [](const double* x, double* v) { v[0] = 1.0 + x[0]; });
   vtkNew<vtkWeightFunction> w;
-  ExpectRefused(w, FlowGrid(), "No variable is selected");
+  ExpectRefused(w, unnamed, "No variable is selected, and the input has neither");
   vtkNew<vtkWeightFunction> w2;
   w2->AddVariable("p");
   w2->AddVariable("Mach");

@@ -29,11 +29,11 @@ Every case (validate):
 a. Planar S, the analytic oblique shock with QuadricFit's plane: S on the
    plane; every prism right (its three lateral edges within 5 degrees of the
    plane's normal); LayerSide +1 on the side the embedded triangles' normal
-   points to; every column farther than (BoundaryMargin + 1) SurfaceEdgeLength
+   points to; every column farther than (BoundaryMargin + 2) SurfaceEdgeLength
    + LayerStackHeight / MaxHeightGradient from the domain boundary of full
    height (S's border lies about (BoundaryMargin + 1) edges from the
-   boundary, where the boundary may lower the columns, and the grading
-   carries that inward at most that far); in every prism of a full-height
+   boundary, jagged by up to one more; there the columns taper to half a
+   border edge, and the grading carries that inward at most that far); in every prism of a full-height
    column, layer k FirstLayerThickness x GrowthRatio^k thick (along the
    normal) within 1% and its bottom at the sum of the layers below.
 b. Curved S, the OpenFOAM cone with QuadricFit's cone (FirstLayerThickness
@@ -302,11 +302,13 @@ check(abs(plus.sum()) == len(plus) and (np.sign(centre) == side[pidx] * plus[0])
 limited = r["limited"]
 domain = locator_of(skin(r["src"].VTKObject))
 l_s = f("SurfaceEdgeLength")
-inner = (MARGIN + 1) * l_s + z[-1] / MAX_HEIGHT_GRADIENT
+# (the trim leaves S's border jagged by up to an edge, and from that border
+# the columns taper: BorderHeight x the border edge there, then graded inward)
+inner = (MARGIN + 2) * l_s + z[-1] / MAX_HEIGHT_GRADIENT
 dist = {s: distance(domain, P[s]) for s in Sp}
 deep_limited = [c for c in limited if dist[c[0]] > inner]
 check(not deep_limited and sum(1 for s in Sp if dist[s] > inner) > 50,
-      "planar: every column farther than %.3f from the domain boundary ((BoundaryMargin + 1) x %.4f + "
+      "planar: every column farther than %.3f from the domain boundary ((BoundaryMargin + 2) x %.4f + "
       "LayerStackHeight / %.1f) has the full height (%d S points that far; the lowered ones are at most %.3f from "
       "the boundary)" % (inner, l_s, MAX_HEIGHT_GRADIENT, sum(1 for s in Sp if dist[s] > inner),
                          max([dist[c[0]] for c in limited], default=0)))

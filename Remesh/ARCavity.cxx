@@ -1119,6 +1119,7 @@ void CavityRun::AddHolePoints()
   }
   // And one inside each piece of the layer stack.
   plc.Holes.insert(plc.Holes.end(), stack.HolePoints.begin(), stack.HolePoints.end());
+  if (!plc.Holes.empty()) // no holes: both data() may be null, which memcpy must not get
   {
     std::vector<std::array<double, 3>> holes(plc.Holes.size() / 3);
     std::memcpy(holes.data(), plc.Holes.data(), plc.Holes.size() * sizeof(double));

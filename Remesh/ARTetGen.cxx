@@ -387,7 +387,10 @@ bool Get(const std::vector<char>& buffer, std::size_t& at, std::vector<T>& v)
     return false;
   }
   v.resize(n);
-  std::memcpy(v.data(), buffer.data() + at, n * sizeof(T));
+  if (n > 0) // an empty vector's data() may be null, and memcpy's pointers must not be
+  {
+    std::memcpy(v.data(), buffer.data() + at, n * sizeof(T));
+  }
   at += n * sizeof(T);
   return true;
 }

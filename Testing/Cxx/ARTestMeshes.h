@@ -82,7 +82,7 @@ inline std::vector<double> BoxTriangles()
   const double c[8][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 0, 1 }, { 1, 1, 1 }, { 0, 1, 1 } };
   const int q[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 }, { 1, 2, 6, 5 }, { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
   for (const auto& f : q)
-    for (const int t : { 0, 2 })
+    for (const int t : { 0, 1 })
       for (const int k : { f[0], f[t + 1], f[t + 2] })
         b.insert(b.end(), c[k], c[k] + 3);
   return b;

@@ -642,7 +642,7 @@ TEST(SurfaceFit, AutomaticTemplatePicksTheShape)
   // Noise 0.005 on points whose local mesh size is 0.02 (a shock's medial
   // points scatter by a fraction of a cell): each shape gets its template.
   const double size = 0.02;
-  auto automatic = [&](const Cloud& c, ar::SurfaceFitResult& r, double residuals[3]) {
+  auto automatic = [&](const Cloud& c, ar::SurfaceFitResult& r, double residuals[4]) {
     ar::SurfaceFitOptions o;
     std::string error;
     const bool ok = ar::FitSurfaceAutomatic(c.X.data(), c.W.data(), c.Size(), o, true, size, r, error, residuals);
@@ -650,7 +650,7 @@ TEST(SurfaceFit, AutomaticTemplatePicksTheShape)
     std::printf("automatic: %s (residuals plane %.5f, cone %.5f, quadric %.5f)\n", ar::SurfaceTemplateName(r.Template),
       residuals[0], residuals[1], residuals[2]);
   };
-  double res[3];
+  double res[4]; // FitSurfaceAutomatic writes all four (plane, cone, quadric, quartic)
   ar::SurfaceFitResult r;
   const V n = Unit({ 0.3, -0.2, 1.0 });
   automatic(PlaneCloud({ 0.1, 0.2, 0.3 }, n, 0.005, 2000, 7), r, res);

@@ -882,6 +882,39 @@ vtkARMeshKernels::TetLocator::TetLocator()
 
 vtkARMeshKernels::TetLocator::~TetLocator() = default;
 
+//------------------------------------------------------------------------------
+void vtkARMeshKernels::PointCells(const MeshView& mesh, const std::vector<char>* use,
+  std::vector<vtkIdType>& offsets, std::vector<vtkIdType>& cells)
+{
+  const vtkIdType np = mesh.NumberOfPoints, nc = mesh.NumberOfCells;
+  offsets.assign(static_cast<std::size_t>(np) + 1, 0);
+  for (vtkIdType c = 0; c < nc; ++c)
+  {
+    if (!use || (*use)[c])
+    {
+      const vtkIdType* ids = mesh.CellPoints(c);
+      for (int k = 0; k < mesh.CellSize(c); ++k)
+      {
+        ++offsets[ids[k] + 1];
+      }
+    }
+  }
+  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+  cells.resize(static_cast<std::size_t>(offsets.back()));
+  std::vector<vtkIdType> fill(offsets.begin(), offsets.end() - 1);
+  for (vtkIdType c = 0; c < nc; ++c)
+  {
+    if (!use || (*use)[c])
+    {
+      const vtkIdType* ids = mesh.CellPoints(c);
+      for (int k = 0; k < mesh.CellSize(c); ++k)
+      {
+        cells[fill[ids[k]]++] = c;
+      }
+    }
+  }
+}
+
 void vtkARMeshKernels::TetLocator::Build(vtkUnstructuredGrid* tets)
 {
   vtkInternals& in = *this->Internals;
@@ -892,26 +925,7 @@ void vtkARMeshKernels::TetLocator::Build(vtkUnstructuredGrid* tets)
   const vtkIdType np = in.Mesh.NumberOfPoints, nc = in.Mesh.NumberOfCells;
   // Point-to-cell links, each point's cells by increasing id (so that the
   // walk's start does not depend on how the links were built).
-  in.LinkOffsets.assign(static_cast<std::size_t>(np) + 1, 0);
-  for (vtkIdType c = 0; c < nc; ++c)
-  {
-    for (int k = 0; k < 4; ++k)
-    {
-      ++in.LinkOffsets[in.Mesh.CellPoints(c)[k] + 1];
-    }
-  }
-  std::partial_sum(in.LinkOffsets.begin(), in.LinkOffsets.end(), in.LinkOffsets.begin());
-  in.Links.resize(static_cast<std::size_t>(in.LinkOffsets.back()));
-  {
-    std::vector<vtkIdType> fill(in.LinkOffsets.begin(), in.LinkOffsets.end() - 1);
-    for (vtkIdType c = 0; c < nc; ++c)
-    {
-      for (int k = 0; k < 4; ++k)
-      {
-        in.Links[fill[in.Mesh.CellPoints(c)[k]]++] = c;
-      }
-    }
-  }
+  PointCells(in.Mesh, nullptr, in.LinkOffsets, in.Links);
   // The used points, for the nearest-vertex start.
   in.VertexId.clear();
   for (vtkIdType p = 0; p < np; ++p)

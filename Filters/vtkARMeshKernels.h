@@ -168,6 +168,13 @@ public:
    * per-point table: point[p * pointStride + pointColumns[k]] = average of
    * cell[c * cellStride + cellColumns[k]]. Returns false if aborted.
    */
+  /// The cells at each point (CSR: point p's cells are
+  /// cells[offsets[p] .. offsets[p + 1]]), each point's in ascending cell
+  /// order whatever the threads (a serial counting sort); only the cells with
+  /// use[c] != 0 when `use` is given.
+  static void PointCells(const MeshView& mesh, const std::vector<char>* use, std::vector<vtkIdType>& offsets,
+    std::vector<vtkIdType>& cells);
+
   static bool CellColumnsToPoints(const MeshView& mesh, const double* cellTable, int cellStride,
     const std::vector<int>& cellColumns, double* pointTable, int pointStride,
     const std::vector<int>& pointColumns, vtkAlgorithm* abortSource);
@@ -354,38 +361,14 @@ bool vtkARMeshKernels::CellsToPoints(const MeshView& mesh, int nComp, CellFn&& c
   {
     return false;
   }
-  // The cells at each point, in ascending order (a counting sort).
-  std::vector<vtkIdType> start(static_cast<size_t>(npts) + 1, 0);
+  // The cells at each point, in ascending order.
+  std::vector<char> used(static_cast<size_t>(ncells));
   for (vtkIdType c = 0; c < ncells; ++c)
   {
-    if (weighted[static_cast<size_t>(c) * stride + nComp] > 0.0)
-    {
-      const vtkIdType* ids = mesh.CellPoints(c);
-      for (int a = 0; a < mesh.CellSize(c); ++a)
-      {
-        ++start[ids[a] + 1];
-      }
-    }
+    used[c] = weighted[static_cast<size_t>(c) * stride + nComp] > 0.0 ? 1 : 0;
   }
-  for (vtkIdType p = 0; p < npts; ++p)
-  {
-    start[p + 1] += start[p];
-  }
-  std::vector<vtkIdType> cells(static_cast<size_t>(start[npts]));
-  {
-    std::vector<vtkIdType> fill(start.begin(), start.end() - 1);
-    for (vtkIdType c = 0; c < ncells; ++c)
-    {
-      if (weighted[static_cast<size_t>(c) * stride + nComp] > 0.0)
-      {
-        const vtkIdType* ids = mesh.CellPoints(c);
-        for (int a = 0; a < mesh.CellSize(c); ++a)
-        {
-          cells[fill[ids[a]]++] = c;
-        }
-      }
-    }
-  }
+  std::vector<vtkIdType> start, cells;
+  PointCells(mesh, &used, start, cells);
   out.assign(static_cast<size_t>(npts) * nComp, 0.0);
   vtkSMPTools::For(0, npts, [&](vtkIdType begin, vtkIdType end) {
     std::vector<double> sum(stride);

@@ -250,11 +250,23 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
 constexpr int CentringSamples = 24;
 constexpr double CentringReach = 3.0;
 
-/// The run of finite samples around the line's middle K: [lo, hi].
-void FiniteRun(const double* v, int& lo, int& hi)
+/**
+ * The signed offset, along the line, of the half-jump point of the profile
+ * `v` sampled at s = (k - K) / K * reach, k = 0..2K: the contiguous valid
+ * part around the centre (at least a third of the reach on either side), the
+ * smallest and largest values there, the crossing of their mean nearest the
+ * centre. False where the line shows no jump of at least 5 %. With `width`:
+ * the 10-90 % width of that rise (its 10 % and 90 % crossings nearest the
+ * half-jump, in the same units as `offset`), -1 where either is missing.
+ */
+bool HalfJumpOffset(const double* v, double reach, double& offset, double* width)
 {
   const int K = CentringSamples, n = 2 * K + 1;
-  lo = hi = K;
+  if (!std::isfinite(v[K]))
+  {
+    return false;
+  }
+  int lo = K, hi = K;
   while (lo > 0 && std::isfinite(v[lo - 1]))
   {
     --lo;
@@ -263,24 +275,6 @@ void FiniteRun(const double* v, int& lo, int& hi)
   {
     ++hi;
   }
-}
-
-/**
- * The signed offset, along the line, of the half-jump point of the profile
- * `v` sampled at s = (k - K) / K * reach, k = 0..2K: the contiguous valid
- * part around the centre (at least a third of the reach on either side), the
- * smallest and largest values there, the crossing of their mean nearest the
- * centre. False where the line shows no jump of at least 5 %.
- */
-bool HalfJumpOffset(const double* v, double reach, double& offset)
-{
-  const int K = CentringSamples;
-  if (!std::isfinite(v[K]))
-  {
-    return false;
-  }
-  int lo = K, hi = K;
-  FiniteRun(v, lo, hi);
   if (K - lo < K / 3 || hi - K < K / 3)
   {
     return false;
@@ -291,40 +285,8 @@ bool HalfJumpOffset(const double* v, double reach, double& offset)
   {
     return false;
   }
-  const double mid = 0.5 * (vmin + vmax);
-  bool found = false;
-  for (int k = lo; k < hi; ++k)
-  {
-    const double a = v[k] - mid, b = v[k + 1] - mid;
-    if (a * b > 0.0 || a == b)
-    {
-      continue;
-    }
-    const double s = (k - K + a / (a - b)) * reach / K;
-    if (!found || std::abs(s) < std::abs(offset))
-    {
-      offset = s;
-      found = true;
-    }
-  }
-  return found;
-}
-
-/// The 10-90 % width of the rise through the half-jump at `offset` on a
-/// centring line (as HalfJumpOffset reads it, in units of the line's
-/// LocalSize): the 10 % and 90 % crossings of the valid samples nearest to
-/// the half-jump on either side. False where either is missing.
-bool RiseWidth(const double* v, double reach, double offset, double& width)
-{
-  const int K = CentringSamples;
-  int lo = K, hi = K;
-  FiniteRun(v, lo, hi);
-  const double vmin = *std::min_element(v + lo, v + hi + 1);
-  const double vmax = *std::max_element(v + lo, v + hi + 1);
-  double near[2] = { 0.0, 0.0 };
-  for (int q = 0; q < 2; ++q)
-  {
-    const double level = vmin + (q == 0 ? 0.1 : 0.9) * (vmax - vmin);
+  // The crossing of `level` nearest to `near` (the centre, then the half-jump).
+  auto crossing = [&](double level, double near, double& at) {
     bool found = false;
     for (int k = lo; k < hi; ++k)
     {
@@ -334,18 +296,25 @@ bool RiseWidth(const double* v, double reach, double offset, double& width)
         continue;
       }
       const double s = (k - K + a / (a - b)) * reach / K;
-      if (!found || std::abs(s - offset) < std::abs(near[q] - offset))
+      if (!found || std::abs(s - near) < std::abs(at - near))
       {
-        near[q] = s;
+        at = s;
         found = true;
       }
     }
-    if (!found)
-    {
-      return false;
-    }
+    return found;
+  };
+  if (!crossing(0.5 * (vmin + vmax), 0.0, offset))
+  {
+    return false;
   }
-  width = std::abs(near[1] - near[0]);
+  if (width)
+  {
+    double s10 = 0.0, s90 = 0.0;
+    *width = crossing(vmin + 0.1 * (vmax - vmin), offset, s10) && crossing(vmin + 0.9 * (vmax - vmin), offset, s90)
+      ? std::abs(s90 - s10)
+      : -1.0;
+  }
   return true;
 }
 
@@ -942,7 +911,8 @@ int vtkQuadricFit::ExecuteData(
         double offset = 0.0;
         const bool unit = std::abs(normals[3 * j] * normals[3 * j] + normals[3 * j + 1] * normals[3 * j + 1] +
                                    normals[3 * j + 2] * normals[3 * j + 2] - 1.0) < 1e-6;
-        const bool okj = unit && HalfJumpOffset(&values[j * samples], CentringReach, offset);
+        double width = -1.0;
+        const bool okj = unit && HalfJumpOffset(&values[j * samples], CentringReach, offset, &width);
         if (!okj)
         {
           continue;
@@ -953,8 +923,7 @@ int vtkQuadricFit::ExecuteData(
         }
         movedWeights.push_back(w[j]);
         shifts.push_back(std::abs(offset));
-        double width = 0.0;
-        if (RiseWidth(&values[j * samples], CentringReach, offset, width))
+        if (width >= 0.0)
         {
           widths.push_back(width * scale[j]);
         }

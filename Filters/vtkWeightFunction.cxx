@@ -130,14 +130,14 @@ int vtkWeightFunction::ExecuteData(
   {
     const int sets[2][3] = { { vtkShockSensor::DENSITY, vtkShockSensor::MOMENTUM, vtkShockSensor::TOTAL_ENERGY },
       { vtkShockSensor::DENSITY, vtkShockSensor::VELOCITY, vtkShockSensor::PRESSURE } };
-    const int components[2][3] = { { 1, 3, 1 }, { 1, 3, 1 } };
+    const int components[3] = { 1, 3, 1 }; // (both sets: a scalar, a vector, a scalar)
     for (int k = 0; k < 2 && names.empty(); ++k)
     {
       std::vector<std::string> found;
       for (int r = 0; r < 3; ++r)
       {
         int association = -1;
-        vtkDataArray* a = vtkShockSensor::FindKnownArray(sets[k][r], components[k][r], input, association);
+        vtkDataArray* a = vtkShockSensor::FindKnownArray(sets[k][r], components[r], input, association);
         if (a && a->GetName())
         {
           found.emplace_back(a->GetName());

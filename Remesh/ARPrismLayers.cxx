@@ -325,8 +325,8 @@ bool LayerBuild::Execute()
   {
     return false;
   }
+  ComputeBorderOffsets(); // (the taper in ComputeHeights uses the border edges' lengths)
   ComputeHeights();
-  ComputeBorderOffsets();
   NumberPoints();
   if (!ComputePrismFloors())
   {
@@ -693,13 +693,11 @@ void LayerBuild::ComputeHeights()
     // edges (the mean of the one or more at the point).
     std::vector<double> borderLength(nS, 0.0);
     std::vector<int> borderCount(nS, 0);
-    for (const std::int64_t he : borderEdges)
+    for (std::size_t e = 0; e < nB; ++e)
     {
-      const std::int64_t a = tail(he), b = head(he);
-      const double l = (X[b] - X[a]).norm();
-      for (const std::int64_t v : { a, b })
+      for (const std::int64_t v : { tail(borderEdges[e]), head(borderEdges[e]) })
       {
-        borderLength[v] += l;
+        borderLength[v] += lEdge[e];
         ++borderCount[v];
       }
     }

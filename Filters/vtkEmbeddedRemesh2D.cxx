@@ -3,7 +3,7 @@
 // remeshed on its cross-section and extruded back into hexahedra and wedges.
 #include "vtkEmbeddedRemesh.h"
 #include "vtkEmbeddedRemeshPlanes.h"
-#include "vtkEmbeddedRemeshQuality.h"
+#include "vtkEmbeddedRemeshStages.h"
 
 #include "ARCavity2D.h"
 #include "ARMeshSize.h"

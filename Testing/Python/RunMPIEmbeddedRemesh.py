@@ -35,6 +35,33 @@ script = os.path.join(here, "MPIEmbeddedRemeshPipeline.py")
 FACES = ((1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1))
 
 
+# The field data: every array of the serial run on both ranks, with the
+# serial run's value (the Seconds* timings apart). Exact, except where MPI's
+# sums run in another order than the serial run's (the mean of the new
+# cells' angles: 1e-12 relative; the relative volume change, itself a
+# round-off of about 1e-14: 1e-12 absolute).
+ROUNDING = {"MeanDihedralAngleNew": ("relative", 1e-12), "RelativeVolumeChange": ("absolute", 1e-12)}
+
+
+def compare_field_data(label, ref, par):
+    names = sorted(n for n in ref.FieldData.keys() if not n.startswith("Seconds"))
+    missing, differ = [], []
+    for name in names:
+        b = np.asarray(artest.field(ref, name), dtype=np.float64)
+        for r, p in enumerate(par):
+            if name not in p.FieldData.keys():
+                missing.append("%s (rank %d)" % (name, r))
+                continue
+            a = np.asarray(artest.field(p, name), dtype=np.float64)
+            kind, tol = ROUNDING.get(name, ("exact", 0.0))
+            scale = np.abs(b).max() if kind == "relative" and b.size else 1.0
+            if a.shape != b.shape or np.abs(a - b).max(initial=0.0) > tol * scale:
+                differ.append("%s (rank %d: %s, serial %s)" % (name, r, a.tolist(), b.tolist()))
+    check(len(names) >= 30 and not missing and not differ,
+          "%s: all %d field-data arrays of the serial run on both ranks, equal to it (missing: %s; differ: %s)"
+          % (label, len(names), missing, differ))
+
+
 def compare(mode):
     out = artest.OUTPUT_DIR
     pieces = os.path.join(out, "mpier_pieces.pvtu")
@@ -100,15 +127,7 @@ def compare(mode):
                   "FullDomain: the whole mesh is remeshed on rank 0; rank 1 ends empty")
         s_ref, s_par = refS.GetNumberOfCells(), sum(p.GetNumberOfCells() for p in parS)
         check(s_ref > 50 and s_par == s_ref, "embedded surface: %d triangles (serial %d)" % (s_par, s_ref))
-        for name in ("KeptCells", "NewCells", "RemovedNodes", "SurfaceTriangles", "SurfaceEdgeLength",
-                     "InputSizeAtSurface", "SurfaceSizeFactor", "OutputSizeAtSurface", "SurfaceSizeRatio"):
-            present = all(name in p.FieldData.keys() for p in par + [ref])
-            a, b = ([artest.field(p, name) for p in par], artest.field(ref, name)) if present else ([], [None])
-            check(present and all(len(x) == 1 and x[0] == b[0] for x in a), "field %s equal on both ranks to the serial run (%s)" % (name, b))
-        for name in ("MinDihedralAngleNew", "MeanDihedralAngleNew"):
-            present = name in par[0].FieldData.keys() and name in ref.FieldData.keys()
-            a, b = (artest.field(par[0], name), artest.field(ref, name)) if present else ([np.nan], [np.nan])
-            check(present and abs(a[0] - b[0]) < 1e-9, "field %s: %.6f (serial %.6f)" % (name, a[0], b[0]))
+        compare_field_data(mode, ref, par)
         P0, T0 = np.asarray(src.Points, dtype=np.float64), tets(src)
         parts = [(np.asarray(p.Points, dtype=np.float64), tets(p)) for p in par]
         vols = np.concatenate([volumes(P, T) for P, T in parts])
@@ -203,16 +222,7 @@ def compare_layers():
           % (t_ref[10], t_ref[13], t_ref[14], t_par[10], t_par[13], t_par[14]))
     region1 = np.asarray(par[1].CellData["Region"])
     check(len(region1) > 0 and (region1 == 0).all(), "prisms: rank 1 keeps its far field (%d cells), no new cell" % len(region1))
-    for name in ("KeptCells", "NewCells", "LayerCells", "Prisms", "Pyramids", "LayerClosureTetrahedra", "LimitedColumns",
-                 "SurfaceTriangles", "LayerStackHeight", "FirstLayerThicknessUsed"):
-        b = artest.field(ref, name)[0]
-        a = [artest.field(p, name)[0] for p in par]
-        check(all(x == b for x in a), "prisms: field %s equal on both ranks to the serial run (%s)" % (name, b))
-    for name in ("MinDihedralAngleNew", "MinDihedralAngleLayerCells", "MaxAspectRatioLayerCells"):
-        b = artest.field(ref, name)[0]
-        a = [artest.field(p, name)[0] for p in par]
-        check(all(abs(x - b) < 1e-9 for x in a), "prisms: field %s %.6f on both ranks (serial %.6f)" % (name, a[0], b))
-    check(all(abs(artest.field(p, "RelativeVolumeChange")[0]) < 1e-9 for p in par + [ref]), "prisms: volume conserved")
+    compare_field_data("prisms", ref, par)
     check(sorted(fingerprints(ref)) == sorted(fingerprints(par[0]) + fingerprints(par[1])),
           "prisms: the 2-rank mesh is the serial mesh, cell for cell (every type)")
 

@@ -1,0 +1,964 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The stages vtkEmbeddedRemesh's three drivers share (vtkEmbeddedRemeshStages.h).
+#include "vtkEmbeddedRemeshStages.h"
+#include "vtkEmbeddedRemesh.h"
+
+#include "ARCavity.h"
+#include "ARCavity2D.h"
+#include "ARCellQuality.h"
+#include "ARMeshSize.h"
+#include "ARPrismLayers.h"
+#include "ARSurfaceRemesh.h"
+#include "ARTetGeometry.h"
+#include "vtkARInputChecks.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkAppendPolyData.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCellType.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkGeometryFilter.h"
+#include "vtkIdList.h"
+#include "vtkMath.h"
+#include "vtkMultiProcessController.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPThreadLocalObject.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkStaticCleanPolyData.h"
+#include "vtkStaticPointLocator.h"
+#include "vtkTriangleFilter.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace
+{
+/// The feature surfaces as bare triangles (geometry only: their arrays are
+/// not wanted), added to `append`.
+void AddSurfaceTriangles(const std::vector<vtkDataSet*>& surfaces, vtkAppendPolyData* append)
+{
+  for (vtkDataSet* ds : surfaces)
+  {
+    if (!ds || ds->GetNumberOfCells() == 0)
+    {
+      continue;
+    }
+    vtkNew<vtkGeometryFilter> geometry;
+    geometry->SetInputData(ds);
+    vtkNew<vtkTriangleFilter> triangles;
+    triangles->SetInputConnection(geometry->GetOutputPort());
+    triangles->PassVertsOff();
+    triangles->PassLinesOff();
+    triangles->Update();
+    vtkNew<vtkPolyData> bare;
+    bare->SetPoints(triangles->GetOutput()->GetPoints());
+    bare->SetPolys(triangles->GetOutput()->GetPolys());
+    append->AddInputData(bare);
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+/// NaN/Inf coordinates in the volume or a surface, or duplicated points (a
+/// crack) in the volume: the problem (empty when there is none), checked
+/// before any mesher sees the mesh (TetGen fails on, or corrupts its heap
+/// with, a crack).
+std::string vtkEmbeddedRemeshCheckCoordinates(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces)
+{
+  std::string bad = vtkARInputChecks::NonFinitePoints(input, "the volume mesh");
+  for (std::size_t k = 0; k < surfaces.size() && bad.empty(); ++k)
+  {
+    const std::string what = "feature surface " + std::to_string(k) + " (the Surfaces input)";
+    bad = vtkARInputChecks::NonFinitePoints(surfaces[k], what.c_str());
+  }
+  if (bad.empty())
+  {
+    bad = vtkARInputChecks::DuplicatedPoints(input);
+  }
+  if (!bad.empty())
+  {
+    bad.pop_back(); // the checks end their messages with a space
+  }
+  return bad;
+}
+
+void vtkEmbeddedRemeshSurfaceAreaAndDiagonal(const vtkEmbeddedRemeshSoup& soup, double& area, double& diagonal)
+{
+  const std::vector<double>& points = soup.Points;
+  const std::vector<std::int64_t>& tris = soup.Triangles;
+  area = 0.0;
+  double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+  double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  for (std::size_t t = 0; t + 2 < tris.size(); t += 3)
+  {
+    const double* a = &points[3 * static_cast<std::size_t>(tris[t])];
+    const double* b = &points[3 * static_cast<std::size_t>(tris[t + 1])];
+    const double* c = &points[3 * static_cast<std::size_t>(tris[t + 2])];
+    const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+    const double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+    double w[3];
+    vtkMath::Cross(u, v, w);
+    area += 0.5 * vtkMath::Norm(w);
+    for (const double* x : { a, b, c })
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        lo[k] = std::min(lo[k], x[k]);
+        hi[k] = std::max(hi[k], x[k]);
+      }
+    }
+  }
+  diagonal = std::sqrt(vtkMath::Distance2BetweenPoints(lo, hi));
+}
+
+//------------------------------------------------------------------------------
+vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
+{
+  const vtkIdType n = output->GetNumberOfCells();
+  vtkNew<vtkDoubleArray> minAngle, maxAngle, aspect;
+  minAngle->SetName("MinDihedralAngle");
+  maxAngle->SetName("MaxDihedralAngle");
+  aspect->SetName("AspectRatio");
+  for (vtkDoubleArray* a : { minAngle.Get(), maxAngle.Get(), aspect.Get() })
+  {
+    a->SetNumberOfTuples(n);
+  }
+  // On threads (vtkSMPTools) over fixed blocks of 20000 cells; the sums are
+  // combined in block order, so the result depends neither on timing nor on
+  // the number of threads.
+  const vtkIdType blockSize = 20000;
+  const vtkIdType nBlocks = (n + blockSize - 1) / blockSize;
+  std::vector<vtkEmbeddedRemeshQuality> partial(static_cast<std::size_t>(nBlocks));
+  auto work = [&](vtkIdType w) {
+    vtkEmbeddedRemeshQuality& sums = partial[w];
+    const vtkIdType first = w * blockSize, last = std::min(n, first + blockSize);
+    vtkNew<vtkIdList> scratch;
+    double x[8 * 3];
+    for (vtkIdType c = first; c < last; ++c)
+    {
+      vtkIdType npts;
+      const vtkIdType* pts;
+      output->GetCellPoints(c, npts, pts, scratch); // the thread-safe overload
+      ar::CellShape shape;
+      static const int voxelToHexahedron[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
+      const int type = output->GetCellType(c);
+      switch (type)
+      {
+        case VTK_TETRA:
+          shape = ar::CellShape::Tetrahedron;
+          break;
+        case VTK_PYRAMID:
+          shape = ar::CellShape::Pyramid;
+          break;
+        case VTK_WEDGE:
+          shape = ar::CellShape::Wedge;
+          break;
+        case VTK_HEXAHEDRON:
+        case VTK_VOXEL:
+          shape = ar::CellShape::Hexahedron;
+          break;
+        default:
+          minAngle->SetValue(c, -1.0);
+          maxAngle->SetValue(c, -1.0);
+          aspect->SetValue(c, -1.0);
+          continue;
+      }
+      for (vtkIdType k = 0; k < npts; ++k)
+      {
+        output->GetPoint(pts[type == VTK_VOXEL ? voxelToHexahedron[k] : k], &x[3 * k]);
+      }
+      const ar::CellQuality q = ar::ComputeCellQuality(shape, x);
+      minAngle->SetValue(c, q.MinDihedralAngle);
+      maxAngle->SetValue(c, q.MaxDihedralAngle);
+      aspect->SetValue(c, q.AspectRatio);
+      sums.NonPositiveJacobian += q.MinCornerJacobian > 0.0 ? 0.0 : 1.0;
+      if (region->GetValue(c) == 1)
+      {
+        sums.NewCells += 1.0;
+        sums.NewMinDihedral = std::min(sums.NewMinDihedral, q.MinDihedralAngle);
+        sums.NewDihedralSum += q.MinDihedralAngle;
+        sums.NewMaxAspectRatio = std::max(sums.NewMaxAspectRatio, q.AspectRatio);
+      }
+      else if (region->GetValue(c) == 2 || shape != ar::CellShape::Tetrahedron)
+      {
+        if (region->GetValue(c) == 2)
+        {
+          (shape == ar::CellShape::Wedge         ? sums.NewPrisms
+              : shape == ar::CellShape::Pyramid   ? sums.NewPyramids
+              : shape == ar::CellShape::Hexahedron ? sums.NewLayerHexahedra
+                                                  : sums.NewLayerTetrahedra) += 1.0;
+        }
+        // layer cells: new prism layers, kept non-tetrahedral (near-wall) cells
+        sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, q.AspectRatio);
+        sums.LayerMinDihedral = std::min(sums.LayerMinDihedral, q.MinDihedralAngle);
+        sums.LayerCells += 1.0;
+      }
+    }
+  };
+  vtkSMPTools::For(0, nBlocks, 1, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType w = b; w < e; ++w)
+    {
+      work(w);
+    }
+  });
+  vtkEmbeddedRemeshQuality sums;
+  for (const vtkEmbeddedRemeshQuality& s : partial)
+  {
+    sums.NewCells += s.NewCells;
+    sums.NewMinDihedral = std::min(sums.NewMinDihedral, s.NewMinDihedral);
+    sums.NewDihedralSum += s.NewDihedralSum;
+    sums.NewMaxAspectRatio = std::max(sums.NewMaxAspectRatio, s.NewMaxAspectRatio);
+    sums.LayerMaxAspectRatio = std::max(sums.LayerMaxAspectRatio, s.LayerMaxAspectRatio);
+    sums.LayerMinDihedral = std::min(sums.LayerMinDihedral, s.LayerMinDihedral);
+    sums.LayerCells += s.LayerCells;
+    sums.NewPrisms += s.NewPrisms;
+    sums.NewPyramids += s.NewPyramids;
+    sums.NewLayerTetrahedra += s.NewLayerTetrahedra;
+    sums.NewLayerHexahedra += s.NewLayerHexahedra;
+    sums.NonPositiveJacobian += s.NonPositiveJacobian;
+  }
+  output->GetCellData()->AddArray(minAngle);
+  output->GetCellData()->AddArray(maxAngle);
+  output->GetCellData()->AddArray(aspect);
+  return sums;
+}
+
+void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmbeddedRemeshQuality& sums)
+{
+  auto field = [&](const char* name, double value) {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  };
+  const bool any = sums.NewCells > 0.0;
+  field("MinDihedralAngleNew", any ? sums.NewMinDihedral : 0.0);
+  field("MeanDihedralAngleNew", any ? sums.NewDihedralSum / sums.NewCells : 0.0);
+  field("MaxAspectRatioNew", sums.NewMaxAspectRatio);
+  field("MaxAspectRatioLayerCells", sums.LayerMaxAspectRatio);
+  field("MinDihedralAngleLayerCells", sums.LayerCells > 0.0 ? sums.LayerMinDihedral : 0.0);
+  field("NonPositiveJacobianCells", sums.NonPositiveJacobian);
+  field("LayerCells", sums.NewPrisms + sums.NewPyramids + sums.NewLayerTetrahedra + sums.NewLayerHexahedra);
+  field("Prisms", sums.NewPrisms);
+  field("Pyramids", sums.NewPyramids);
+  field("LayerClosureTetrahedra", sums.NewLayerTetrahedra);
+  field("LayerHexahedra", sums.NewLayerHexahedra);
+}
+
+void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
+{
+  double sums[8] = { q.NewCells, q.NewDihedralSum, q.NonPositiveJacobian, q.LayerCells, q.NewPrisms,
+    q.NewPyramids, q.NewLayerTetrahedra, q.NewLayerHexahedra };
+  double maxima[4] = { -q.NewMinDihedral, q.NewMaxAspectRatio, q.LayerMaxAspectRatio, -q.LayerMinDihedral };
+  vtkARMeshKernels::AllReduceSum(sums, 8);
+  vtkARMeshKernels::AllReduceMax(maxima, 4);
+  q.NewCells = sums[0];
+  q.NewDihedralSum = sums[1];
+  q.NonPositiveJacobian = sums[2];
+  q.LayerCells = sums[3];
+  q.NewPrisms = sums[4];
+  q.NewPyramids = sums[5];
+  q.NewLayerTetrahedra = sums[6];
+  q.NewLayerHexahedra = sums[7];
+  q.NewMinDihedral = -maxima[0];
+  q.NewMaxAspectRatio = maxima[1];
+  q.LayerMaxAspectRatio = maxima[2];
+  q.LayerMinDihedral = -maxima[3];
+}
+
+double vtkEmbeddedRemeshOutputSizeAtSurface(const ar::CavityRemesh& r)
+{
+  std::vector<double> lv =
+    ar::LongestEdgeAtNodes(r.Mesh.Points.data(), r.Mesh.Points.size() / 3, r.Mesh.Tetrahedra.data(),
+      r.Mesh.NumberOfTetrahedra());
+  ar::AccumulateLongestEdges(ar::CellShape::Wedge, r.Mesh.Points.data(), r.Prisms.data(), r.Prisms.size() / 6, lv);
+  ar::AccumulateLongestEdges(ar::CellShape::Pyramid, r.Mesh.Points.data(), r.Pyramids.data(), r.Pyramids.size() / 5, lv);
+  return ar::MedianAtNodes(lv, r.Surface.data(), r.Surface.size());
+}
+
+void vtkEmbeddedRemeshAddSizeFields(vtkUnstructuredGrid* output, double edge, double inputSize, double outputSize)
+{
+  auto field = [&](const char* name, double value) {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  };
+  field("InputSizeAtSurface", inputSize);
+  field("SurfaceSizeFactor", inputSize > 0.0 ? edge / inputSize : 0.0);
+  field("OutputSizeAtSurface", outputSize);
+  field("SurfaceSizeRatio", inputSize > 0.0 ? outputSize / inputSize : 0.0);
+}
+
+bool vtkEmbeddedRemeshOptionsValid(vtkEmbeddedRemesh* self, std::string& problem)
+{
+  vtkARInputChecks::Properties p;
+  p.OneOf("Mode", self->GetMode(), { "LocalCavity", "FullDomain" })
+    .InRange("SurfaceEdgeLength", self->GetSurfaceEdgeLength(), 0.0, VTK_DOUBLE_MAX,
+      "S's edge length; 0 sets it from the input's size at S")
+    .AboveAndAtMost("RemovalFactor", self->GetRemovalFactor(), 0.0, 1e3,
+      "the radius of removal in units of max(l_s, l_v)")
+    .InRange("BoundaryMargin", self->GetBoundaryMargin(), 0.0, 1e3,
+      "S is trimmed this many of its edge lengths away from V's boundary")
+    .InRange("MaxRadiusEdgeRatio", self->GetMaxRadiusEdgeRatio(), 1.0, 100.0,
+      "TetGen's radius-edge bound; below 1 it cannot be met")
+    .InRange("MinDihedralAngle", self->GetMinDihedralAngle(), 0.0, 30.0, "degrees")
+    .OneOf("TwoDimensional", self->GetTwoDimensional(), { "Auto", "Off" })
+    .InRange("MinTriangleAngle", self->GetMinTriangleAngle(), 0.0, 30.0, "degrees");
+  const double f = self->GetSurfaceSizeFactor();
+  if (self->GetSurfaceEdgeLength() <= 0.0 && !(f >= 0.0 && f <= 10.0))
+  {
+    std::ostringstream msg;
+    msg << "SurfaceSizeFactor is " << f
+        << "; it must lie in [0, 10] (S's edge length in units of the input's size at S, "
+           "below 1 refines; 0 automatic), or set SurfaceEdgeLength.";
+    p.Add(msg.str());
+  }
+  if (p.Ok())
+  {
+    return true;
+  }
+  problem = "EmbeddedRemesh: " + p.Message();
+  problem.pop_back(); // the callers add " The input passes through unchanged."
+  return false;
+}
+
+bool vtkEmbeddedRemeshJobFits(vtkEmbeddedRemesh* self, int dimension, double extent, double size,
+  double edge, double inputSize, double domain, double inputCells, std::string& problem)
+{
+  const bool byLength = self->GetSurfaceEdgeLength() > 0.0;
+  std::ostringstream who;
+  if (byLength)
+  {
+    who << "SurfaceEdgeLength is " << edge;
+  }
+  else
+  {
+    who << "SurfaceSizeFactor is " << self->GetSurfaceSizeFactorUsed() << " (S's edge length "
+        << edge << ", the input's size at S " << inputSize << " times it)";
+  }
+  const char* what = dimension == 3 ? "the feature surface" : "the feature curve";
+  if (edge > size)
+  {
+    std::ostringstream msg;
+    msg << "EmbeddedRemesh: " << who.str() << ", longer than " << what << " itself ("
+        << (dimension == 3 ? "its bounding box's diagonal is " : "its length is ") << size
+        << "): it cannot be meshed at that length. The edge length must lie in (0, " << size
+        << "] here, and be well below it; 0 sets it from the input's size at S (" << inputSize << ").";
+    problem = msg.str();
+    return false;
+  }
+  // The cavity: a slab of the removal radius on both sides of S (the
+  // whole domain with FullDomain), its cells graded linearly from `edge` at
+  // S to the input's size H at the slab's faces: per unit of S, the
+  // integral of 1 / size(d)^dimension over d in [0, D] on each side.
+  const double H = std::max(edge, inputSize);
+  const double D = self->GetRemovalFactor() * H;
+  const bool full = self->GetMode() == vtkEmbeddedRemesh::FULL_DOMAIN;
+  const double slab = std::min(2.0 * extent * D, domain > 0.0 ? domain : VTK_DOUBLE_MAX);
+  const double cavity = full ? domain : slab;
+  // Cells per edge^d of graded volume: 8.5 tetrahedra (the regular
+  // tetrahedron's; TetGen's refill of the oblique shock measured within 2%
+  // of it at SurfaceSizeFactor 0.1-0.2), 2.9 triangles (the equilateral
+  // triangle's 2.31 gave 80% of CGAL's count on the wedge at 0.05-0.2).
+  double boundaryElements, cavityElements;
+  if (dimension == 3)
+  {
+    boundaryElements = extent / (0.25 * std::sqrt(3.0) * edge * edge);
+    cavityElements = 8.5 * slab * (H + edge) / (2.0 * edge * edge * H * H);
+  }
+  else
+  {
+    boundaryElements = extent / edge;
+    cavityElements = 2.9 * slab / (edge * H);
+  }
+  if (full)
+  {
+    // The far field, remeshed at about its size: TetGen's quality mesh of
+    // it has about twice the input's cells (1.9x on Kuhn cubes of 5.1e6
+    // tetrahedra: 11.1e6 new cells; on the oblique shock's Gmsh mesh the
+    // 4689 cells LocalCavity keeps became 12613 with FullDomain).
+    cavityElements += 2.0 * inputCells;
+  }
+  // Prism layers: NumberOfLayers prisms on each side of every S triangle.
+  // (2-D: NumberOfLayers quads on each side of every curve segment.)
+  const double layerElements = self->GetLayerType() == vtkEmbeddedRemesh::PRISMS
+    ? 2.0 * self->GetNumberOfLayers() * boundaryElements
+    : 0.0;
+  const double total = boundaryElements + cavityElements + layerElements;
+  const double cap = vtkARInputChecks::MaximumElements();
+  if (std::isfinite(total) && total <= cap)
+  {
+    return true;
+  }
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << "EmbeddedRemesh: " << who.str() << ": the job would not fit in memory. "
+      << (dimension == 3 ? "The feature surface's " : "The feature curve's ")
+      << (dimension == 3 ? "area " : "length ") << extent << " over the edge length"
+      << (dimension == 3 ? " squared" : "") << " gives about " << boundaryElements
+      << (dimension == 3 ? " surface triangles" : " curve segments") << ", and the cavity ("
+      << (dimension == 3 ? "volume " : "area ") << cavity << ", cells graded from " << edge << " at S to "
+      << H << ") about " << cavityElements << (dimension == 3 ? " tetrahedra" : " triangles");
+  if (layerElements > 0.0)
+  {
+    msg << ", the prism layers about " << layerElements << " cells";
+  }
+  msg << ": an estimated " << total << " elements, above the cap of " << cap
+      << " (half of this machine's " << vtkARInputChecks::PhysicalMemory() / (1024.0 * 1024.0 * 1024.0)
+      << " GiB of memory at " << static_cast<int>(vtkARInputChecks::BytesPerElement)
+      << " bytes per element). Raise "
+      << (byLength ? "SurfaceEdgeLength" : "SurfaceSizeFactor")
+      << " (0 for both chooses the edge from the input's size at S, " << inputSize << ").";
+  problem = msg.str();
+  return false;
+}
+
+//------------------------------------------------------------------------------
+bool vtkEmbeddedRemeshLayerOptions(vtkEmbeddedRemesh* self, double edge, ar::PrismLayerOptions& layers, std::string& problem)
+{
+  layers = ar::PrismLayerOptions();
+  if (self->GetLayerType() == vtkEmbeddedRemesh::TETRAHEDRA)
+  {
+    return true;
+  }
+  std::ostringstream msg;
+  if (self->GetLayerType() != vtkEmbeddedRemesh::PRISMS)
+  {
+    msg << "LayerType is " << self->GetLayerType() << "; it must be 0 (Tetrahedra) or 1 (Prisms).";
+  }
+  else if (self->GetNumberOfLayers() < 1 || self->GetNumberOfLayers() > 100)
+  {
+    msg << "NumberOfLayers is " << self->GetNumberOfLayers() << "; prism layers need 1 to 100 per side.";
+  }
+  else if (!(self->GetGrowthRatio() > 0.0) || !std::isfinite(self->GetGrowthRatio()))
+  {
+    msg << "GrowthRatio is " << self->GetGrowthRatio() << "; it must be a positive number.";
+  }
+  else if (!(self->GetFirstLayerThickness() >= 0.0) || !std::isfinite(self->GetFirstLayerThickness()))
+  {
+    msg << "FirstLayerThickness is " << self->GetFirstLayerThickness()
+        << "; it must be positive (or 0 for a stack half a surface edge high).";
+  }
+  else if (!(self->GetTotalThickness() >= 0.0) || !std::isfinite(self->GetTotalThickness()))
+  {
+    msg << "TotalThickness is " << self->GetTotalThickness() << "; it must be positive (or 0 to use FirstLayerThickness).";
+  }
+  if (!msg.str().empty())
+  {
+    problem = "EmbeddedRemesh: " + msg.str();
+    return false;
+  }
+  layers.NumberOfLayers = self->GetNumberOfLayers();
+  layers.GrowthRatio = self->GetGrowthRatio();
+  layers.TotalThickness = self->GetTotalThickness();
+  layers.FirstLayerThickness = self->GetFirstLayerThickness();
+  if (layers.TotalThickness <= 0.0 && layers.FirstLayerThickness <= 0.0)
+  {
+    // Automatic: the stack on each side half a surface edge high (the core
+    // derives the first layer from it). Higher stacks (above about 0.6 edge
+    // on the cone) leave TetGen slivers against the closure at S's border.
+    layers.TotalThickness = 0.5 * edge;
+  }
+  return true;
+}
+
+void vtkEmbeddedRemeshAddLayerFields(
+  vtkUnstructuredGrid* output, const ar::PrismLayerOptions& layers, double limitedColumns)
+{
+  std::vector<double> z;
+  std::string unused;
+  const bool on = layers.NumberOfLayers > 0 && ar::PrismLayerDistances(layers, z, unused);
+  for (const auto& [name, value] : { std::make_pair("LimitedColumns", limitedColumns),
+         std::make_pair("LayerStackHeight", on ? z.back() : 0.0),
+         std::make_pair("FirstLayerThicknessUsed", on ? z[1] : 0.0) })
+  {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  }
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+/// Doubles from every rank, concatenated in rank order, on every rank.
+std::vector<double> AllGatherDoubles(const std::vector<double>& local)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (vtkARMeshKernels::NumberOfRanks() <= 1 || !ctrl)
+  {
+    return local;
+  }
+  vtkNew<vtkDoubleArray> send, recv;
+  send->SetNumberOfTuples(static_cast<vtkIdType>(local.size()));
+  std::copy(local.begin(), local.end(), send->GetPointer(0));
+  ctrl->AllGatherV(send, recv);
+  return std::vector<double>(recv->GetPointer(0), recv->GetPointer(0) + recv->GetNumberOfTuples());
+}
+
+/// Rank 0's values on every rank (doubles; integers travel as doubles).
+template <typename T>
+void BroadcastFromRoot(std::vector<T>& data)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (vtkARMeshKernels::NumberOfRanks() <= 1 || !ctrl)
+  {
+    return;
+  }
+  std::vector<double> values(data.begin(), data.end());
+  vtkIdType n = static_cast<vtkIdType>(values.size());
+  ctrl->Broadcast(&n, 1, 0);
+  values.resize(n);
+  if (n > 0)
+  {
+    ctrl->Broadcast(values.data(), n, 0);
+  }
+  data.assign(values.begin(), values.end());
+}
+}
+
+void vtkEmbeddedRemeshBroadcast(vtkEmbeddedRemeshSoup& soup)
+{
+  BroadcastFromRoot(soup.Points);
+  BroadcastFromRoot(soup.Triangles);
+}
+
+std::vector<double> vtkEmbeddedRemeshAllGather(const std::vector<double>& local)
+{
+  return AllGatherDoubles(local);
+}
+
+//------------------------------------------------------------------------------
+vtkEmbeddedRemeshSoup vtkEmbeddedRemeshCollectSurfaces(const std::vector<vtkDataSet*>& surfaces)
+{
+  vtkEmbeddedRemeshSoup soup;
+  vtkNew<vtkAppendPolyData> append;
+  AddSurfaceTriangles(surfaces, append);
+  const bool distributed = vtkARMeshKernels::NumberOfRanks() > 1;
+  vtkSmartPointer<vtkPolyData> merged;
+  if (distributed)
+  {
+    vtkNew<vtkPolyData> local;
+    if (append->GetNumberOfInputConnections(0) > 0)
+    {
+      append->Update();
+      local->ShallowCopy(append->GetOutput());
+    }
+    merged = vtkARMeshKernels::GatherPolyData(local, 0.0, false); // rank 0 holds the union
+  }
+  else if (append->GetNumberOfInputConnections(0) > 0)
+  {
+    append->Update();
+    merged = append->GetOutput();
+  }
+  if (merged && merged->GetNumberOfCells() > 0)
+  {
+    vtkNew<vtkStaticCleanPolyData> clean;
+    clean->SetInputData(merged);
+    clean->SetTolerance(0.0);
+    clean->Update();
+    vtkPolyData* surface = clean->GetOutput();
+    soup.Points.resize(3 * surface->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
+    {
+      surface->GetPoint(i, &soup.Points[3 * i]);
+    }
+    vtkIdType npts;
+    const vtkIdType* ids;
+    vtkCellArray* polys = surface->GetPolys();
+    for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+    {
+      if (npts == 3)
+      {
+        soup.Triangles.insert(soup.Triangles.end(), { ids[0], ids[1], ids[2] });
+      }
+    }
+  }
+  if (distributed)
+  {
+    BroadcastFromRoot(soup.Points);
+    BroadcastFromRoot(soup.Triangles);
+  }
+  return soup;
+}
+
+//------------------------------------------------------------------------------
+double vtkEmbeddedRemeshInputSizeAt(const double* nodes, vtkIdType nNodes, int dim, const std::vector<double>& lv,
+  const std::vector<char>* candidate, const double* query, std::size_t nQuery)
+{
+  vtkNew<vtkPoints> cloudPoints;
+  cloudPoints->SetDataTypeToDouble();
+  std::vector<vtkIdType> node; // cloud point -> node
+  for (vtkIdType i = 0; i < nNodes; ++i)
+  {
+    if (!candidate || (*candidate)[i])
+    {
+      double x[3] = { 0.0, 0.0, 0.0 };
+      std::copy(nodes + dim * i, nodes + dim * i + dim, x);
+      cloudPoints->InsertNextPoint(x);
+      node.push_back(i);
+    }
+  }
+  // Per query point: the squared distance to the nearest candidate and l_v there.
+  std::vector<double> mine(2 * nQuery, 0.0);
+  for (std::size_t i = 0; i < nQuery; ++i)
+  {
+    mine[2 * i] = VTK_DOUBLE_MAX;
+  }
+  if (!node.empty())
+  {
+    vtkNew<vtkPolyData> cloud;
+    cloud->SetPoints(cloudPoints);
+    vtkNew<vtkStaticPointLocator> locator;
+    locator->SetDataSet(cloud);
+    locator->BuildLocator();
+    for (std::size_t i = 0; i < nQuery; ++i)
+    {
+      double q[3] = { 0.0, 0.0, 0.0 };
+      std::copy(query + dim * i, query + dim * i + dim, q);
+      const vtkIdType j = locator->FindClosestPoint(q);
+      if (j >= 0)
+      {
+        double x[3];
+        cloudPoints->GetPoint(j, x);
+        mine[2 * i] = vtkMath::Distance2BetweenPoints(q, x);
+        mine[2 * i + 1] = lv[node[j]];
+      }
+    }
+  }
+  const std::vector<double> all = AllGatherDoubles(mine); // rank order
+  std::vector<double> near;
+  for (std::size_t i = 0; i < nQuery; ++i)
+  {
+    double best = VTK_DOUBLE_MAX, size = 0.0;
+    for (std::size_t r = 0; r < all.size() / (2 * nQuery); ++r)
+    {
+      const double* e = &all[2 * (r * nQuery + i)];
+      if (e[0] < best)
+      {
+        best = e[0];
+        size = e[1];
+      }
+    }
+    if (size > 0.0)
+    {
+      near.push_back(size);
+    }
+  }
+  return ar::Median(std::move(near));
+}
+
+//------------------------------------------------------------------------------
+vtkEmbeddedRemeshSoup vtkEmbeddedRemeshRemeshSurface(vtkAlgorithm* self, const vtkEmbeddedRemeshSoup& s, double edge)
+{
+  vtkEmbeddedRemeshSoup r;
+  std::string error;
+  if (!ar::RemeshSurfaceIsotropic(s.Points, s.Triangles, edge, r.Points, r.Triangles, error))
+  {
+    vtkWarningWithObjectMacro(self, << "The feature surface is used as it is (not remeshed): " << error);
+    r = s;
+  }
+  return r;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+template <typename Options>
+void CommonCavityOptions(vtkEmbeddedRemesh* self, Options& options)
+{
+  options.RemovalFactor = self->GetRemovalFactor();
+  options.VisibilityTest = self->GetVisibilityTest();
+  options.BoundaryMargin = self->GetBoundaryMargin();
+  options.FullDomain = self->GetMode() == vtkEmbeddedRemesh::FULL_DOMAIN;
+}
+}
+
+bool vtkEmbeddedRemeshCavityOptions(
+  vtkEmbeddedRemesh* self, double edge, ar::CavityOptions& options, std::string& problem)
+{
+  CommonCavityOptions(self, options);
+  options.Quality.MaxRadiusEdgeRatio = self->GetMaxRadiusEdgeRatio();
+  options.Quality.MinDihedralAngle = self->GetMinDihedralAngle();
+  return vtkEmbeddedRemeshLayerOptions(self, edge, options.Layers, problem);
+}
+
+bool vtkEmbeddedRemeshCavityOptions(
+  vtkEmbeddedRemesh* self, double edge, ar::Cavity2DOptions& options, std::string& problem)
+{
+  CommonCavityOptions(self, options);
+  options.MinAngle = self->GetMinTriangleAngle();
+  return vtkEmbeddedRemeshLayerOptions(self, edge, options.Layers, problem);
+}
+
+//------------------------------------------------------------------------------
+vtkEmbeddedRemeshCells::vtkEmbeddedRemeshCells(vtkUnstructuredGrid* output)
+  : Output(output)
+{
+  this->RegionArray->SetName("Region");
+  this->LayerArray->SetName("Layer");
+  this->SideArray->SetName("LayerSide");
+}
+
+vtkEmbeddedRemeshCells::~vtkEmbeddedRemeshCells() = default;
+
+void vtkEmbeddedRemeshCells::Add(
+  int type, vtkIdType n, const vtkIdType* pts, vtkIdType source, int region, int layer, int side, vtkPoints* points)
+{
+  if (points)
+  {
+    this->AddVolume(type, n, pts, points);
+  }
+  this->Output->InsertNextCell(type, n, pts);
+  this->Source.push_back(source);
+  this->RegionArray->InsertNextValue(region);
+  this->LayerArray->InsertNextValue(layer);
+  this->SideArray->InsertNextValue(side);
+  this->NewCount += region > 0 ? 1 : 0;
+}
+
+void vtkEmbeddedRemeshCells::AddPolyhedron(vtkIdType source, vtkIdList* faces)
+{
+  this->Output->InsertNextCell(VTK_POLYHEDRON, faces);
+  this->Source.push_back(source);
+  this->RegionArray->InsertNextValue(0);
+  this->LayerArray->InsertNextValue(-1);
+  this->SideArray->InsertNextValue(0);
+}
+
+void vtkEmbeddedRemeshCells::AddVolume(int type, vtkIdType n, const vtkIdType* pts, vtkPoints* points)
+{
+  const ar::CellShape shape = type == VTK_TETRA ? ar::CellShape::Tetrahedron
+    : type == VTK_WEDGE                         ? ar::CellShape::Wedge
+                                                : ar::CellShape::Pyramid;
+  double x[6 * 3];
+  for (vtkIdType j = 0; j < n; ++j)
+  {
+    points->GetPoint(pts[j], x + 3 * j);
+  }
+  this->VolumeAfter += ar::CellVolume(shape, x);
+}
+
+void vtkEmbeddedRemeshCells::AddRefillTetrahedra(const ar::CavityRemesh& result,
+  const std::vector<vtkIdType>* pointOf, const std::vector<vtkIdType>* keptSource, vtkPoints* points)
+{
+  const bool layered = !result.TetrahedronLayer.empty();
+  for (std::size_t t = 0; t < result.SourceCell.size(); ++t)
+  {
+    const std::int64_t src = result.SourceCell[t];
+    if (src >= 0 && !keptSource)
+    {
+      continue;
+    }
+    const std::int64_t* v = &result.Mesh.Tetrahedra[4 * t];
+    vtkIdType pts[4];
+    for (int k = 0; k < 4; ++k)
+    {
+      pts[k] = pointOf ? (*pointOf)[v[k]] : static_cast<vtkIdType>(v[k]);
+    }
+    const int k = layered ? result.TetrahedronLayer[t] : -1;
+    this->Add(VTK_TETRA, 4, pts, src >= 0 ? (*keptSource)[src] : -1, src >= 0 ? 0 : k >= 0 ? 2 : 1, k,
+      k >= 0 ? result.TetrahedronSide[t] : 0, points);
+  }
+}
+
+void vtkEmbeddedRemeshCells::AddRefillLayers(
+  const ar::CavityRemesh& result, const std::vector<vtkIdType>* pointOf, vtkPoints* points)
+{
+  auto add = [&](int type, int n, const std::vector<std::int64_t>& cells, const std::vector<int>& layer,
+               const std::vector<int>& side) {
+    for (std::size_t p = 0; p < cells.size() / n; ++p)
+    {
+      vtkIdType pts[6];
+      for (int k = 0; k < n; ++k)
+      {
+        const std::int64_t id = cells[n * p + k];
+        pts[k] = pointOf ? (*pointOf)[id] : static_cast<vtkIdType>(id);
+      }
+      this->Add(type, n, pts, -1, 2, layer[p], side[p], points);
+    }
+  };
+  add(VTK_WEDGE, 6, result.Prisms, result.PrismLayer, result.PrismSide);
+  add(VTK_PYRAMID, 5, result.Pyramids, result.PyramidLayer, result.PyramidSide);
+}
+
+void vtkEmbeddedRemeshCells::Finish(bool layerArrays)
+{
+  this->Output->GetCellData()->AddArray(this->RegionArray);
+  if (layerArrays)
+  {
+    this->Output->GetCellData()->AddArray(this->LayerArray);
+    this->Output->GetCellData()->AddArray(this->SideArray);
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARMeshKernels::TetLocator& locator,
+  vtkUnstructuredGrid* output, const std::vector<char>& isNew, const std::vector<vtkIdType>& startOf,
+  const std::vector<vtkIdType>& cellSource)
+{
+  vtkEmbeddedRemeshNewTuples n;
+  const vtkIdType nOut = output->GetNumberOfPoints();
+  std::vector<vtkIdType> queryOf(nOut, -1); // new point -> its query
+  for (vtkIdType i = 0; i < nOut; ++i)
+  {
+    if (isNew[i])
+    {
+      queryOf[i] = static_cast<vtkIdType>(n.Points.size());
+      n.Points.push_back(i);
+    }
+  }
+  const auto nNewPoints = static_cast<vtkIdType>(n.Points.size());
+  std::vector<double> where(3 * n.Points.size());
+  for (vtkIdType q = 0; q < nNewPoints; ++q)
+  {
+    output->GetPoint(n.Points[q], &where[3 * q]);
+  }
+  n.PointIn.resize(n.Points.size());
+  n.Weights.resize(4 * n.Points.size());
+  locator.Locate(nNewPoints, where.data(), nullptr, n.PointIn.data(), n.Weights.data());
+
+  // The new cells' centres, each walked to from the cell at one of its
+  // corners (a new point's, else the first corner's startOf).
+  for (std::size_t k = 0; k < cellSource.size(); ++k)
+  {
+    if (cellSource[k] < 0)
+    {
+      n.Cells.push_back(static_cast<vtkIdType>(k));
+    }
+  }
+  const auto nNewCells = static_cast<vtkIdType>(n.Cells.size());
+  std::vector<double> centres(3 * n.Cells.size());
+  std::vector<vtkIdType> starts(n.Cells.size(), -1);
+  n.CellIn.resize(n.Cells.size());
+  vtkSMPThreadLocalObject<vtkIdList> scratch;
+  vtkSMPTools::For(0, nNewCells, [&](vtkIdType b, vtkIdType e) {
+    vtkIdList* corners = scratch.Local();
+    for (vtkIdType q = b; q < e; ++q)
+    {
+      vtkIdType npts;
+      const vtkIdType* pts;
+      output->GetCellPoints(n.Cells[q], npts, pts, corners);
+      double* centre = &centres[3 * q];
+      std::fill(centre, centre + 3, 0.0);
+      for (vtkIdType j = 0; j < npts; ++j)
+      {
+        double x[3];
+        output->GetPoint(pts[j], x);
+        for (int d = 0; d < 3; ++d)
+        {
+          centre[d] += x[d] / static_cast<double>(npts);
+        }
+        if (starts[q] < 0)
+        {
+          starts[q] = queryOf[pts[j]] >= 0 ? n.PointIn[queryOf[pts[j]]] : startOf[pts[j]];
+        }
+      }
+    }
+  });
+  locator.Locate(nNewCells, centres.data(), starts.data(), n.CellIn.data(), nullptr);
+  return n;
+}
+
+//------------------------------------------------------------------------------
+void vtkEmbeddedRemeshSummary::Reduce()
+{
+  if (vtkARMeshKernels::NumberOfRanks() <= 1)
+  {
+    return;
+  }
+  double sums[] = { this->KeptCells, this->NewCells, this->InputNodes, this->NewNodes, this->RemovedNodes,
+    this->SurfaceElements, this->SurfaceTrianglesAtLockedCells, this->LimitedColumns, this->PatchTrianglesNew,
+    this->VolumeBefore, this->VolumeAfter };
+  constexpr int nSums = sizeof(sums) / sizeof(sums[0]);
+  vtkARMeshKernels::AllReduceSum(sums, nSums);
+  double* s = sums;
+  for (double* v : { &this->KeptCells, &this->NewCells, &this->InputNodes, &this->NewNodes, &this->RemovedNodes,
+         &this->SurfaceElements, &this->SurfaceTrianglesAtLockedCells, &this->LimitedColumns,
+         &this->PatchTrianglesNew, &this->VolumeBefore, &this->VolumeAfter })
+  {
+    *v = *s++;
+  }
+  // Sizes and the refill's figures: known on rank 0 (S and the refill are
+  // there), 0 elsewhere; timings: the slowest rank's.
+  std::vector<double> maxima = { this->SurfaceEdgeLength, this->InputSize, this->OutputSize, this->RefillAttempts,
+    this->MinTriangleAngleNew };
+  for (const auto& t : this->Seconds)
+  {
+    maxima.push_back(t.second);
+  }
+  vtkARMeshKernels::AllReduceMax(maxima.data(), static_cast<int>(maxima.size()));
+  this->SurfaceEdgeLength = maxima[0];
+  this->InputSize = maxima[1];
+  this->OutputSize = maxima[2];
+  this->RefillAttempts = maxima[3];
+  this->MinTriangleAngleNew = maxima[4];
+  for (std::size_t k = 0; k < this->Seconds.size(); ++k)
+  {
+    this->Seconds[k].second = maxima[5 + k];
+  }
+  vtkEmbeddedRemeshReduceQuality(this->Quality);
+  // Every node not removed is kept: the output has the input's nodes less
+  // the removed ones plus the new ones.
+  this->OutputNodes = this->InputNodes - this->RemovedNodes + this->NewNodes;
+}
+
+void vtkEmbeddedRemeshSummary::Write(vtkUnstructuredGrid* output, const ar::PrismLayerOptions& layers) const
+{
+  auto field = [&](const char* name, double value) {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  };
+  field("TwoDimensional", this->TwoDimensional ? 1.0 : 0.0);
+  field("KeptCells", this->KeptCells);
+  field("NewCells", this->NewCells);
+  field("InputNodes", this->InputNodes);
+  field("OutputNodes", this->OutputNodes);
+  field("NewNodes", this->NewNodes);
+  field("RemovedNodes", this->RemovedNodes);
+  if (this->TwoDimensional)
+  {
+    field("SurfaceQuads", this->SurfaceElements);
+  }
+  else
+  {
+    field("SurfaceTriangles", this->SurfaceElements);
+    field("SurfaceTrianglesAtLockedCells", this->SurfaceTrianglesAtLockedCells);
+  }
+  field("SurfaceEdgeLength", this->SurfaceEdgeLength);
+  vtkEmbeddedRemeshAddSizeFields(output, this->SurfaceEdgeLength, this->InputSize, this->OutputSize);
+  vtkEmbeddedRemeshAddLayerFields(output, layers, this->LimitedColumns);
+  if (this->TwoDimensional)
+  {
+    field("MinTriangleAngleNew", this->NewCells > 0.0 ? this->MinTriangleAngleNew : 0.0);
+    field("PatchTrianglesNew", this->PatchTrianglesNew);
+  }
+  else
+  {
+    field("RefillAttempts", this->RefillAttempts);
+  }
+  vtkEmbeddedRemeshAddQualityFields(output, this->Quality);
+  for (const auto& t : this->Seconds)
+  {
+    field(t.first.c_str(), t.second);
+  }
+  field("RelativeVolumeChange",
+    this->VolumeBefore > 0.0 ? (this->VolumeAfter - this->VolumeBefore) / this->VolumeBefore : 0.0);
+}
+
+//------------------------------------------------------------------------------
+void vtkEmbeddedRemeshSetEmbedded(vtkPolyData* embedded, vtkPoints* points, const std::vector<std::int64_t>& triangles,
+  const std::vector<vtkIdType>* pointOf)
+{
+  vtkNew<vtkCellArray> faces;
+  for (std::size_t f = 0; f + 2 < triangles.size(); f += 3)
+  {
+    vtkIdType tri[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      tri[k] = pointOf ? (*pointOf)[triangles[f + k]] : static_cast<vtkIdType>(triangles[f + k]);
+    }
+    faces->InsertNextCell(3, tri);
+  }
+  embedded->SetPoints(points);
+  embedded->SetPolys(faces);
+}

@@ -635,14 +635,19 @@ void TransferArray(vtkAbstractArray* from, vtkAbstractArray* to, bool nearest,
         to->InsertTuple(i, src[0], from);
         continue;
       }
-      double* w = const_cast<double*>(&sources.Weights[4 * static_cast<std::size_t>(i)]);
+      double* w = const_cast<double*>(&sources.Weights[static_cast<std::size_t>(i) * width]);
+      int m = 2; // the tuples interpolated: up to the first negative id
+      while (m < width && src[m] >= 0)
+      {
+        ++m;
+      }
       if (nearest)
       {
         // vtkDataSetAttributes::InterpolatePoint's rule, its integer
         // maxWeight included (the last tuple of positive weight wins).
         vtkIdType maxId = src[0];
         vtkIdType maxWeight = 0;
-        for (int j = 0; j < 4; ++j)
+        for (int j = 0; j < m; ++j)
         {
           if (w[j] > maxWeight)
           {
@@ -653,7 +658,8 @@ void TransferArray(vtkAbstractArray* from, vtkAbstractArray* to, bool nearest,
         to->InsertTuple(i, maxId, from);
         continue;
       }
-      std::copy(src, src + 4, ids->GetPointer(0));
+      ids->SetNumberOfIds(m);
+      std::copy(src, src + m, ids->GetPointer(0));
       to->InterpolateTuple(i, ids, from, w);
     }
   };
@@ -661,15 +667,12 @@ void TransferArray(vtkAbstractArray* from, vtkAbstractArray* to, bool nearest,
   {
     vtkSMPThreadLocalObject<vtkIdList> local;
     vtkSMPTools::For(0, n, [&](vtkIdType b, vtkIdType e) {
-      vtkIdList* ids = local.Local();
-      ids->SetNumberOfIds(4);
-      fill(b, e, ids);
+      fill(b, e, local.Local());
     });
   }
   else
   {
     vtkNew<vtkIdList> ids;
-    ids->SetNumberOfIds(4);
     fill(0, n, ids);
   }
   to->Modified();
@@ -719,21 +722,27 @@ void vtkARMeshKernels::TransferData(
   }
   // Ambiguous names: vtkDataSetAttributes' own calls, tuple by tuple.
   vtkNew<vtkIdList> ids;
-  ids->SetNumberOfIds(4);
+  const int width = sources.Width;
   for (vtkIdType i = 0; i < sources.Size(); ++i)
   {
-    const vtkIdType* src = &sources.Ids[static_cast<std::size_t>(i) * sources.Width];
+    const vtkIdType* src = &sources.Ids[static_cast<std::size_t>(i) * width];
     if (src[0] < 0)
     {
       continue;
     }
-    if (sources.Width == 1 || src[1] < 0)
+    if (width == 1 || src[1] < 0)
     {
       to->CopyData(from, src[0], i);
       continue;
     }
-    std::copy(src, src + 4, ids->GetPointer(0));
-    to->InterpolatePoint(from, i, ids, const_cast<double*>(&sources.Weights[4 * static_cast<std::size_t>(i)]));
+    int m = 2;
+    while (m < width && src[m] >= 0)
+    {
+      ++m;
+    }
+    ids->SetNumberOfIds(m);
+    std::copy(src, src + m, ids->GetPointer(0));
+    to->InterpolatePoint(from, i, ids, const_cast<double*>(&sources.Weights[static_cast<std::size_t>(i) * width]));
   }
 }
 

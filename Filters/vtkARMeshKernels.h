@@ -226,32 +226,37 @@ public:
 
   /**
    * Where each tuple of a field transfer comes from: one source tuple
-   * copied, or (Width 4) four source tuples weighted (linear interpolation
-   * in a tetrahedron).
+   * copied, or (Width > 1) up to Width source tuples weighted (linear
+   * interpolation in a tetrahedron: 4; in a hexahedron: 8).
    */
   struct TupleSources
   {
-    /// Source tuples per output tuple: 1 (copies only) or 4.
+    /// Source tuples per output tuple: 1 (copies only), or the most any
+    /// interpolation uses.
     int Width = 1;
     /// Width ids per output tuple. Ids[Width*i] < 0: tuple i is not filled
-    /// (another source fills it); with Width 4, Ids[4i+1] < 0: a copy of
-    /// tuple Ids[4i].
+    /// (another source fills it); with Width > 1, Ids[Width*i+1] < 0: a copy
+    /// of tuple Ids[Width*i]; an interpolation of fewer than Width tuples
+    /// ends at the first negative id.
     std::vector<vtkIdType> Ids;
-    /// 4 per output tuple with Width 4 (empty with Width 1).
+    /// Width per output tuple with Width > 1 (empty with Width 1).
     std::vector<double> Weights;
 
     TupleSources(vtkIdType n, int width)
       : Width(width)
       , Ids(static_cast<std::size_t>(n) * width, -1)
-      , Weights(width == 4 ? static_cast<std::size_t>(n) * 4 : 0, 0.0)
+      , Weights(width > 1 ? static_cast<std::size_t>(n) * width : 0, 0.0)
     {
     }
     vtkIdType Size() const { return static_cast<vtkIdType>(this->Ids.size()) / this->Width; }
     void Copy(vtkIdType i, vtkIdType from) { this->Ids[static_cast<std::size_t>(i) * this->Width] = from; }
-    void Interpolate(vtkIdType i, const vtkIdType from[4], const double weights[4])
+    /// Tuple i interpolated from the `count` (at most Width; 0: Width)
+    /// tuples `from` with `weights`.
+    void Interpolate(vtkIdType i, const vtkIdType* from, const double* weights, int count = 0)
     {
-      std::copy(from, from + 4, &this->Ids[4 * static_cast<std::size_t>(i)]);
-      std::copy(weights, weights + 4, &this->Weights[4 * static_cast<std::size_t>(i)]);
+      const std::size_t w = static_cast<std::size_t>(this->Width), n = count > 0 ? count : w;
+      std::copy(from, from + n, &this->Ids[w * i]);
+      std::copy(weights, weights + n, &this->Weights[w * i]);
     }
   };
 

@@ -28,6 +28,8 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSMPThreadLocalObject.h"
+#include "vtkSMPTools.h"
 #include "vtkSplineFilter.h"
 #include "vtkStaticCellLocator.h"
 #include "vtkStaticPointLocator.h"
@@ -89,6 +91,80 @@ void InterpolatePointData(vtkDataSet* from, vtkStaticCellLocator* locator, vtkPo
     cell->EvaluatePosition(closest, nullptr, subId, pcoords, dist2, weights.data());
   }
   out->InterpolatePoint(from->GetPointData(), i, cell->PointIds, weights.data());
+}
+
+/// Points located in the cells of a vtkStaticCellLocator's dataset (the
+/// one-cell-deep mesh: hexahedra and wedges): per point the cell that
+/// contains it (the closest cell when none does) and, with weights, its
+/// points and their interpolation weights there.
+struct LocatedPoints
+{
+  static constexpr int Width = 8; ///< the hexahedron's points, the most a cell of the mesh has
+  std::vector<vtkIdType> Cell;
+  std::vector<vtkIdType> Ids;  ///< Width per point, the cell's points
+  std::vector<double> Weights; ///< Width per point
+  std::vector<int> Count;      ///< the cell's points
+};
+
+/// On threads (FindCell, as vtkProbeFilter does); the points no cell
+/// contains (round-off at the boundary) then in order on one thread
+/// (FindClosestPoint and, with weights, the weights at the closest point),
+/// so the answer is the serial loop's.
+LocatedPoints LocateInCells(vtkStaticCellLocator* locator, double tol2, const std::vector<double>& x, bool weights)
+{
+  const vtkIdType n = static_cast<vtkIdType>(x.size() / 3);
+  const int W = LocatedPoints::Width;
+  LocatedPoints out;
+  out.Cell.assign(n, -1);
+  if (weights)
+  {
+    out.Ids.assign(static_cast<std::size_t>(n) * W, -1);
+    out.Weights.assign(static_cast<std::size_t>(n) * W, 0.0);
+    out.Count.assign(n, 0);
+  }
+  auto keep = [&](vtkIdType q, vtkGenericCell* cell, const double* w) {
+    const int m = std::min<int>(W, static_cast<int>(cell->GetNumberOfPoints()));
+    out.Count[q] = m;
+    for (int k = 0; k < m; ++k)
+    {
+      out.Ids[static_cast<std::size_t>(q) * W + k] = cell->GetPointId(k);
+      out.Weights[static_cast<std::size_t>(q) * W + k] = w[k];
+    }
+  };
+  vtkSMPThreadLocalObject<vtkGenericCell> cells;
+  vtkSMPTools::For(0, n, [&](vtkIdType b, vtkIdType e) {
+    vtkGenericCell* cell = cells.Local();
+    std::vector<double> w(VTK_CELL_SIZE);
+    double pcoords[3];
+    int subId;
+    for (vtkIdType q = b; q < e; ++q)
+    {
+      double p[3] = { x[3 * q], x[3 * q + 1], x[3 * q + 2] };
+      out.Cell[q] = locator->FindCell(p, tol2, cell, subId, pcoords, w.data());
+      if (out.Cell[q] >= 0 && weights)
+      {
+        keep(q, cell, w.data());
+      }
+    }
+  });
+  vtkNew<vtkGenericCell> cell;
+  std::vector<double> w(VTK_CELL_SIZE);
+  for (vtkIdType q = 0; q < n; ++q)
+  {
+    if (out.Cell[q] >= 0)
+    {
+      continue;
+    }
+    double closest[3], dist2, pcoords[3];
+    int subId;
+    locator->FindClosestPoint(&x[3 * q], closest, cell, out.Cell[q], subId, dist2);
+    if (weights)
+    {
+      cell->EvaluatePosition(closest, nullptr, subId, pcoords, dist2, w.data());
+      keep(q, cell, w.data());
+    }
+  }
+  return out;
 }
 }
 
@@ -345,32 +421,15 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     return passThrough("The feature curve is empty: the feature surface does not cross the mid-depth "
                        "plane of the mesh.");
   }
-  double inputSize = 0.0;
+  std::vector<double> cutPoints(2 * cut->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < cut->GetNumberOfPoints(); ++i)
   {
-    vtkNew<vtkPoints> nodes;
-    nodes->SetDataTypeToDouble();
-    for (std::size_t i = 0; i < frontPoint.size(); ++i)
-    {
-      nodes->InsertNextPoint(section.Points[2 * i], section.Points[2 * i + 1], 0.0);
-    }
-    vtkNew<vtkPolyData> cloud;
-    cloud->SetPoints(nodes);
-    vtkNew<vtkStaticPointLocator> locator;
-    locator->SetDataSet(cloud);
-    locator->BuildLocator();
-    std::vector<double> near;
-    for (vtkIdType i = 0; i < cut->GetNumberOfPoints(); ++i)
-    {
-      const double* x = cut->GetPoint(i);
-      const double q[3] = { x[U], x[V], 0.0 };
-      const vtkIdType j = locator->FindClosestPoint(q);
-      if (j >= 0 && lv[j] > 0.0)
-      {
-        near.push_back(lv[j]);
-      }
-    }
-    inputSize = ar::Median(std::move(near));
+    const double* x = cut->GetPoint(i);
+    cutPoints[2 * i] = x[U];
+    cutPoints[2 * i + 1] = x[V];
   }
+  const double inputSize = vtkEmbeddedRemeshInputSizeAt(section.Points.data(),
+    static_cast<vtkIdType>(frontPoint.size()), 2, lv, nullptr, cutPoints.data(), cutPoints.size() / 2);
   const double edge = this->SurfaceEdgeLength > 0.0 ? this->SurfaceEdgeLength : this->GetSurfaceSizeFactorUsed() * inputSize;
   if (!(edge > 0.0))
   {
@@ -477,14 +536,9 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
 
   // ---- The 2-D cavity and its refill.
   ar::Cavity2DOptions options;
-  options.RemovalFactor = this->RemovalFactor;
-  options.VisibilityTest = this->VisibilityTest;
-  options.BoundaryMargin = this->BoundaryMargin;
-  options.MinAngle = this->MinTriangleAngle;
-  options.FullDomain = this->Mode == FULL_DOMAIN;
   {
     std::string problem;
-    if (!vtkEmbeddedRemeshLayerOptions(this, edge, options.Layers, problem))
+    if (!vtkEmbeddedRemeshCavityOptions(this, edge, options, problem))
     {
       return passThrough(problem.substr(std::string("EmbeddedRemesh: ").size()));
     }
@@ -598,6 +652,37 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   }
   const vtkIdType nOut = points->GetNumberOfPoints();
 
+  // ---- The input cell holding each new cell's centre (at mid-depth): its
+  // cell data, and the patch faces of its planes, go to the new cell.
+  vtkNew<vtkStaticCellLocator> cellLocator;
+  cellLocator->SetDataSet(input);
+  cellLocator->BuildLocator();
+  const double tol2 = 1e-12 * input->GetLength2();
+  std::vector<vtkIdType> newCellOf2D(result.SourceCell.size(), -1), newCells2D;
+  for (std::size_t c = 0; c < result.SourceCell.size(); ++c)
+  {
+    if (result.SourceCell[c] < 0)
+    {
+      newCellOf2D[c] = static_cast<vtkIdType>(newCells2D.size());
+      newCells2D.push_back(static_cast<vtkIdType>(c));
+    }
+  }
+  std::vector<double> centres(3 * newCells2D.size(), 0.0);
+  for (std::size_t q = 0; q < newCells2D.size(); ++q)
+  {
+    const std::size_t c = newCells2D[q];
+    const std::int64_t* v = &result.Mesh.Connectivity[result.Mesh.Offsets[c]];
+    const std::int64_t n = result.Mesh.Offsets[c + 1] - result.Mesh.Offsets[c];
+    double* centre = &centres[3 * q];
+    for (std::int64_t j = 0; j < n; ++j)
+    {
+      centre[U] += result.Mesh.Points[2 * v[j]] / static_cast<double>(n);
+      centre[V] += result.Mesh.Points[2 * v[j] + 1] / static_cast<double>(n);
+    }
+    centre[axis] = mid;
+  }
+  const LocatedPoints centreIn = LocateInCells(cellLocator, tol2, centres, false);
+
   // ---- Cells: kept volume cells (their node order), new wedges, then the
   // 2-D cells (off the planes; on the planes kept with their cell, and the
   // new wedges' triangles where the input had a face).
@@ -605,29 +690,13 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
   output->SetPoints(points);
   output->Allocate(static_cast<vtkIdType>(result.SourceCell.size() + otherCells.size() + planeCells.size()));
-  std::vector<vtkIdType> sourceCell; // input cell of each output cell
-  vtkNew<vtkIntArray> region, layerOf, sideOf;
-  region->SetName("Region");  // 0 kept, 1 new triangle (wedge), 2 layer cell
-  layerOf->SetName("Layer");  // layer cells: k, 0 next to the curve; others -1
-  sideOf->SetName("LayerSide"); // layer cells: +1 on the curve's left (ARCavity2D.h), -1 on its right; others 0
-  auto addLayer = [&](int k, int s) {
-    if (layered)
-    {
-      layerOf->InsertNextValue(k);
-      sideOf->InsertNextValue(s);
-    }
-  };
-  vtkNew<vtkStaticCellLocator> cells;
-  cells->SetDataSet(input);
-  cells->BuildLocator();
-  vtkNew<vtkGenericCell> gcell;
-  std::vector<double> weights(VTK_CELL_SIZE);
-  const double tol2 = 1e-12 * input->GetLength2();
+  vtkEmbeddedRemeshCells cells(output); // Region 0 kept, 1 new triangle (wedge), 2 layer cell;
+  // Layer, LayerSide: layer cells' k (0 next to the curve) and side (+1 on the
+  // curve's left, ARCavity2D.h; -1 on its right)
   std::vector<char> cellKept(input->GetNumberOfCells(), 0);
   double areaAfter = 0.0;
   vtkIdType newCount = 0, keptCount = 0;
   std::vector<vtkEmbeddedRemeshPlanes::Wedge> wedges;
-
   for (std::size_t c = 0; c < result.SourceCell.size(); ++c)
   {
     const std::int64_t* v = &result.Mesh.Connectivity[result.Mesh.Offsets[c]];
@@ -648,15 +717,15 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       {
         ids->SetId(k, outOfInput[ids->GetId(k)]);
       }
-      const int type = input->GetCellType(in);
-      output->InsertNextCell(type, ids);
-      sourceCell.push_back(in);
-      region->InsertNextValue(0);
-      addLayer(-1, 0);
+      cells.Add(input->GetCellType(in), ids->GetNumberOfIds(), ids->GetPointer(0), in, 0, -1, 0);
       ++keptCount;
       continue;
     }
     vtkEmbeddedRemeshPlanes::Wedge w;
+    const vtkIdType in = centreIn.Cell[newCellOf2D[c]];
+    const bool layerCell = layered && result.CellLayer[c] >= 0;
+    const int region = layerCell ? 2 : 1, k = layerCell ? result.CellLayer[c] : -1;
+    const int side = layerCell ? result.CellSide[c] : 0;
     if (n == 3)
     {
       // A counter-clockwise triangle (a, b, c) in (U, V): its normal points to
@@ -665,7 +734,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       const vtkIdType lo[3] = { pair[v[0]][0], pair[v[2]][0], pair[v[1]][0] };
       const vtkIdType hi[3] = { pair[v[0]][1], pair[v[2]][1], pair[v[1]][1] };
       const vtkIdType wedge[6] = { lo[0], lo[1], lo[2], hi[0], hi[1], hi[2] };
-      output->InsertNextCell(VTK_WEDGE, 6, wedge);
+      cells.Add(VTK_WEDGE, 6, wedge, in, region, k, side);
       w.Face[0] = { lo[0], lo[1], lo[2] }; // normal -axis: out of the domain on Lo
       w.Face[1] = { hi[0], hi[2], hi[1] }; // normal +axis: out of the domain on Hi
     }
@@ -675,34 +744,14 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       // on Lo is (a, b, c, d) (VTK: the base's normal points to the top).
       const vtkIdType hex[8] = { pair[v[0]][0], pair[v[1]][0], pair[v[2]][0], pair[v[3]][0], pair[v[0]][1],
         pair[v[1]][1], pair[v[2]][1], pair[v[3]][1] };
-      output->InsertNextCell(VTK_HEXAHEDRON, 8, hex);
+      cells.Add(VTK_HEXAHEDRON, 8, hex, in, region, k, side);
       w.Face[0] = { hex[0], hex[3], hex[2], hex[1] };
       w.Face[1] = { hex[4], hex[5], hex[6], hex[7] };
     }
-    double centre[3] = { 0.0, 0.0, 0.0 };
-    for (std::int64_t j = 0; j < n; ++j)
-    {
-      centre[U] += result.Mesh.Points[2 * v[j]] / static_cast<double>(n);
-      centre[V] += result.Mesh.Points[2 * v[j] + 1] / static_cast<double>(n);
-    }
-    centre[axis] = mid;
-    double pcoords[3];
-    int subId;
-    vtkIdType in = cells->FindCell(centre, tol2, gcell, subId, pcoords, weights.data());
-    if (in < 0)
-    {
-      double closest[3], dist2;
-      cells->FindClosestPoint(centre, closest, gcell, in, subId, dist2);
-    }
-    sourceCell.push_back(in);
-    const bool layerCell = layered && result.CellLayer[c] >= 0;
-    region->InsertNextValue(layerCell ? 2 : 1);
-    addLayer(layerCell ? result.CellLayer[c] : -1, layerCell ? result.CellSide[c] : 0);
     ++newCount;
     w.Source = in;
     wedges.push_back(w);
   }
-  const vtkIdType nVolumeOut = static_cast<vtkIdType>(sourceCell.size());
   for (const vtkIdType c : otherCells)
   {
     input->GetCellPoints(c, ids);
@@ -710,10 +759,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     {
       ids->SetId(k, outOfInput[ids->GetId(k)]);
     }
-    output->InsertNextCell(input->GetCellType(c), ids);
-    sourceCell.push_back(c);
-    region->InsertNextValue(0);
-    addLayer(-1, 0);
+    cells.Add(input->GetCellType(c), ids->GetNumberOfIds(), ids->GetPointer(0), c, 0, -1, 0);
   }
   for (const vtkIdType c : planeCells)
   {
@@ -727,10 +773,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     {
       ids->SetId(k, outOfInput[ids->GetId(k)]);
     }
-    output->InsertNextCell(input->GetCellType(c), ids);
-    sourceCell.push_back(c);
-    region->InsertNextValue(0);
-    addLayer(-1, 0);
+    cells.Add(input->GetCellType(c), ids->GetNumberOfIds(), ids->GetPointer(0), c, 0, -1, 0);
   }
   // Per input volume cell: its index among the volume cells.
   std::vector<vtkIdType> volumeIndex(input->GetNumberOfCells(), -1);
@@ -750,10 +793,8 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
         continue;
       }
       const bool quad = w.Face[s].size() == 4;
-      output->InsertNextCell(quad ? VTK_QUAD : VTK_TRIANGLE, static_cast<vtkIdType>(w.Face[s].size()), w.Face[s].data());
-      sourceCell.push_back(it->second);
-      region->InsertNextValue(1);
-      addLayer(-1, 0);
+      cells.Add(quad ? VTK_QUAD : VTK_TRIANGLE, static_cast<vtkIdType>(w.Face[s].size()), w.Face[s].data(),
+        it->second, 1, -1, 0);
       ++patchTriangles;
     }
   }
@@ -764,51 +805,61 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   {
     vtkPointData* outPD = output->GetPointData();
     vtkCellData* outCD = output->GetCellData();
+    const std::vector<vtkIdType>& sourceCell = cells.Sources();
     outPD->InterpolateAllocate(input->GetPointData(), nOut);
     outCD->CopyAllocate(input->GetCellData(), static_cast<vtkIdType>(sourceCell.size()));
-    for (vtkIdType i = 0; i < nOut; ++i)
+    std::vector<double> where(3 * (nOut - nKeptPoints));
+    for (vtkIdType i = nKeptPoints; i < nOut; ++i)
     {
-      double x[3];
-      points->GetPoint(i, x);
-      InterpolatePointData(input, cells, outPD, i < nKeptPoints ? pointSource[i] : -1, x, i, gcell, weights);
+      points->GetPoint(i, &where[3 * (i - nKeptPoints)]);
+    }
+    const LocatedPoints pointIn = LocateInCells(cellLocator, tol2, where, true);
+    vtkARMeshKernels::TupleSources pointSources(nOut, LocatedPoints::Width), cellSources(
+      static_cast<vtkIdType>(sourceCell.size()), 1);
+    for (vtkIdType i = 0; i < nKeptPoints; ++i)
+    {
+      pointSources.Copy(i, pointSource[i]);
+    }
+    for (vtkIdType i = nKeptPoints; i < nOut; ++i)
+    {
+      const std::size_t q = static_cast<std::size_t>(i - nKeptPoints);
+      pointSources.Interpolate(i, &pointIn.Ids[LocatedPoints::Width * q], &pointIn.Weights[LocatedPoints::Width * q],
+        pointIn.Count[q]);
     }
     for (std::size_t k = 0; k < sourceCell.size(); ++k)
     {
-      outCD->CopyData(input->GetCellData(), sourceCell[k], static_cast<vtkIdType>(k));
+      cellSources.Copy(static_cast<vtkIdType>(k), sourceCell[k]);
     }
+    vtkARMeshKernels::TransferData(input->GetPointData(), outPD, pointSources);
+    vtkARMeshKernels::TransferData(input->GetCellData(), outCD, cellSources);
   }
-  output->GetCellData()->AddArray(region);
-  if (layered)
-  {
-    output->GetCellData()->AddArray(layerOf);
-    output->GetCellData()->AddArray(sideOf);
-  }
-  const vtkEmbeddedRemeshQuality quality = vtkEmbeddedRemeshAddQualityArrays(output, region);
+  cells.Finish(layered);
+  vtkEmbeddedRemeshSummary summary;
+  summary.Quality = vtkEmbeddedRemeshAddQualityArrays(output, cells.Region());
 
   // ---- Field data and the embedded surface (quads: the extruded curve segments).
-  auto field = [&](const char* name, double value) {
-    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
-  };
-  field("TwoDimensional", 1.0);
-  field("KeptCells", static_cast<double>(keptCount));
-  field("NewCells", static_cast<double>(newCount));
-  field("InputNodes", static_cast<double>(nPoints));
-  field("OutputNodes", static_cast<double>(nOut));
-  field("NewNodes", static_cast<double>(nOut - nKeptPoints));
-  field("RemovedNodes", static_cast<double>(nPoints - nKeptPoints));
-  field("SurfaceQuads", static_cast<double>(result.Curve.size() / 2));
-  field("SurfaceEdgeLength", edge);
+  summary.TwoDimensional = true;
+  summary.KeptCells = static_cast<double>(keptCount);
+  summary.NewCells = static_cast<double>(newCount);
+  summary.InputNodes = static_cast<double>(nPoints);
+  summary.OutputNodes = static_cast<double>(nOut);
+  summary.NewNodes = static_cast<double>(nOut - nKeptPoints);
+  summary.RemovedNodes = static_cast<double>(nPoints - nKeptPoints);
+  summary.SurfaceElements = static_cast<double>(result.Curve.size() / 2);
+  summary.SurfaceEdgeLength = edge;
+  summary.InputSize = inputSize;
   {
     const std::vector<double> lvOut = ar::LongestPolygonEdgeAtNodes(result.Mesh.Points.data(), 2,
       result.Mesh.NumberOfPoints(), result.Mesh.Offsets.data(), result.Mesh.Connectivity.data(),
       result.Mesh.NumberOfCells());
-    vtkEmbeddedRemeshAddSizeFields(output, edge, inputSize, ar::MedianAtNodes(lvOut, result.Curve.data(), result.Curve.size()));
+    summary.OutputSize = ar::MedianAtNodes(lvOut, result.Curve.data(), result.Curve.size());
   }
-  field("MinTriangleAngleNew", newCount ? result.MinAngleNew : 0.0);
-  vtkEmbeddedRemeshAddQualityFields(output, quality);
-  field("RelativeVolumeChange", areaBefore > 0.0 ? (areaAfter - areaBefore) / areaBefore : 0.0);
-  field("PatchTrianglesNew", static_cast<double>(patchTriangles));
-  vtkEmbeddedRemeshAddLayerFields(output, options.Layers, static_cast<double>(result.LimitedColumns));
+  summary.MinTriangleAngleNew = result.MinAngleNew;
+  summary.PatchTrianglesNew = static_cast<double>(patchTriangles);
+  summary.LimitedColumns = static_cast<double>(result.LimitedColumns);
+  summary.VolumeBefore = areaBefore;
+  summary.VolumeAfter = areaAfter;
+  summary.Write(output, options.Layers);
   vtkNew<vtkCellArray> quads;
   for (std::size_t s = 0; s < result.Curve.size(); s += 2)
   {
@@ -843,7 +894,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     }
     planes->Wedges = wedges;
   }
-  (void)nVolumeOut;
   this->UpdateProgress(1.0);
   return 1;
 }

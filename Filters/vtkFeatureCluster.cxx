@@ -2,6 +2,7 @@
 #include "vtkFeatureCluster.h"
 
 #include "vtkARInputChecks.h"
+#include "vtkARVolumeFilterExecution.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -164,6 +165,7 @@ const int TAG_RESULTS = 48105;
 
 //------------------------------------------------------------------------------
 vtkFeatureCluster::vtkFeatureCluster()
+  : vtkARVolumeFilter("feature clustering")
 {
   this->SetNumberOfOutputPorts(2);
   this->SetInputArrayToProcess(
@@ -181,50 +183,14 @@ int vtkFeatureCluster::FillOutputPortInformation(int port, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
-int vtkFeatureCluster::RequestUpdateExtent(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkFeatureCluster::Execute(Execution& run)
 {
-  // The region around a node on a partition boundary reaches DilationRings + 1
-  // rings into the neighbouring partition. The piece comes from the port that
-  // is asked: when only the medial points (port 1) feed a QuadricFit, port
-  // 0's request is a stale "piece 0 of 1", which made every rank read the
-  // whole mesh.
-  int port = 0;
-  if (request && request->Has(vtkExecutive::FROM_OUTPUT_PORT()))
-  {
-    port = std::max(0, request->Get(vtkExecutive::FROM_OUTPUT_PORT()));
-  }
-  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, this->DilationRings + 1, port);
-  return 1;
-}
+  vtkUnstructuredGrid* input = run.Input;
+  vtkUnstructuredGrid* output = run.Output;
+  vtkPolyData* medial = vtkPolyData::GetData(run.OutputVector, 1);
 
-//------------------------------------------------------------------------------
-int vtkFeatureCluster::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // Threads for this filter's own work only: the process's SMP backend is
-  // left as the user has it.
-  int result = 1;
-  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
-  return result;
-}
-
-//------------------------------------------------------------------------------
-int vtkFeatureCluster::ExecuteData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
-  vtkPolyData* medial = vtkPolyData::GetData(outputVector, 1);
-  output->ShallowCopy(input);
-
-  std::ostringstream problem;
-  vtkARMeshKernels::MeshView mesh;
-  std::string meshError;
-  if (!mesh.Build(input, meshError))
-  {
-    problem << meshError << ". ";
-  }
+  std::ostringstream& problem = run.Problem;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
   const vtkIdType npts = mesh.NumberOfPoints;
   const vtkIdType ncells = mesh.NumberOfCells;
   problem << vtkARInputChecks::Properties()
@@ -382,15 +348,9 @@ int vtkFeatureCluster::ExecuteData(
               << "(the automatic range, [0, 0], is [0.8, 1.2] for NormalMach, [1.5, 2] for WeightFunction). ";
     }
   }
-  if (!vtkARMeshKernels::AgreeToProceed(
-        this, problem.str(), mesh, vtkARMeshKernels::Census(mesh), "feature clustering"))
+  if (!this->Proceed(run))
   {
     return 1;
-  }
-  this->UpdateProgress(0.1);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
-  {
-    return 1; // cancelled (collective work under MPI runs to its end)
   }
 
   // ---- The feature region: cells within DilationRings + 1 rings of a seed
@@ -486,7 +446,7 @@ int vtkFeatureCluster::ExecuteData(
     }
   }
   this->UpdateProgress(0.5);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  if (this->Cancelled())
   {
     return 1; // cancelled (collective work under MPI runs to its end)
   }
@@ -595,7 +555,7 @@ int vtkFeatureCluster::ExecuteData(
     ctrl->Receive(mine.data(), mine.size(), 0, TAG_RESULTS);
   }
   this->UpdateProgress(0.8);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  if (this->Cancelled())
   {
     return 1; // cancelled (collective work under MPI runs to its end)
   }

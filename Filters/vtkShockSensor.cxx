@@ -2,6 +2,7 @@
 #include "vtkShockSensor.h"
 
 #include "vtkARInputChecks.h"
+#include "vtkARVolumeFilterExecution.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellData.h"
 #include "vtkDataObject.h"
@@ -149,6 +150,7 @@ vtkDataArray* vtkShockSensor::FindKnownArray(int idx, int components, vtkDataSet
 
 //------------------------------------------------------------------------------
 vtkShockSensor::vtkShockSensor()
+  : vtkARVolumeFilter("the shock sensor")
 {
   // Every array found by its usual names unless the user names it.
   for (int i = 0; i < 6; ++i)
@@ -158,39 +160,13 @@ vtkShockSensor::vtkShockSensor()
 }
 
 //------------------------------------------------------------------------------
-int vtkShockSensor::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkShockSensor::Execute(Execution& run)
 {
-  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, 1);
-  return 1;
-}
+  vtkUnstructuredGrid* input = run.Input;
+  vtkUnstructuredGrid* output = run.Output;
 
-//------------------------------------------------------------------------------
-int vtkShockSensor::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // Threads for this filter's own work only: the process's SMP backend is
-  // left as the user has it.
-  int result = 1;
-  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
-  return result;
-}
-
-//------------------------------------------------------------------------------
-int vtkShockSensor::ExecuteData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
-  output->ShallowCopy(input);
-
-  std::ostringstream problem;
-  vtkARMeshKernels::MeshView mesh;
-  std::string meshError;
-  if (!mesh.Build(input, meshError))
-  {
-    problem << meshError << ". ";
-  }
+  std::ostringstream& problem = run.Problem;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
   const vtkIdType npts = mesh.NumberOfPoints;
   const vtkIdType ncells = mesh.NumberOfCells;
 
@@ -440,15 +416,9 @@ int vtkShockSensor::ExecuteData(
       }
     }
   }
-  if (!vtkARMeshKernels::AgreeToProceed(
-        this, problem.str(), mesh, vtkARMeshKernels::Census(mesh), "the shock sensor"))
+  if (!this->Proceed(run))
   {
     return 1;
-  }
-  this->UpdateProgress(0.1);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
-  {
-    return 1; // cancelled (collective work under MPI runs to its end)
   }
 
   if (!cellColumns.empty() &&
@@ -502,7 +472,7 @@ int vtkShockSensor::ExecuteData(
     return 1;
   }
   this->UpdateProgress(0.3);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  if (this->Cancelled())
   {
     return 1; // cancelled (collective work under MPI runs to its end)
   }
@@ -537,7 +507,7 @@ int vtkShockSensor::ExecuteData(
     return 1;
   }
   this->UpdateProgress(0.7);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  if (this->Cancelled())
   {
     return 1; // cancelled (collective work under MPI runs to its end)
   }

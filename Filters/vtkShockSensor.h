@@ -79,13 +79,13 @@
 #define vtkShockSensor_h
 
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkARVolumeFilter.h"
 
-class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkShockSensor : public vtkUnstructuredGridAlgorithm
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkShockSensor : public vtkARVolumeFilter
 {
 public:
   static vtkShockSensor* New();
-  vtkTypeMacro(vtkShockSensor, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkShockSensor, vtkARVolumeFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   enum VariableSets
@@ -161,10 +161,7 @@ protected:
   vtkShockSensor();
   ~vtkShockSensor() override = default;
 
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
-  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
+  int Execute(Execution& run) override;
 
 public:
   /// The names an automatic array of index `idx` (ArrayIndices) is looked

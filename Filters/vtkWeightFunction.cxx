@@ -4,6 +4,7 @@
 #include "vtkShockSensor.h"
 
 #include "vtkARInputChecks.h"
+#include "vtkARVolumeFilterExecution.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellData.h"
 #include "vtkNew.h"
@@ -44,7 +45,8 @@ inline double BooleanSum(double a, double b)
 
 //------------------------------------------------------------------------------
 vtkWeightFunction::vtkWeightFunction()
-  : VariableSelection(vtkDataArraySelection::New())
+  : vtkARVolumeFilter("the weight function")
+  , VariableSelection(vtkDataArraySelection::New())
 {
   // A change of the selection re-executes the filter.
   this->VariableSelection->AddObserver(
@@ -70,40 +72,14 @@ void vtkWeightFunction::RemoveAllVariables()
 }
 
 //------------------------------------------------------------------------------
-int vtkWeightFunction::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkWeightFunction::Execute(Execution& run)
 {
-  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, 1);
-  return 1;
-}
-
-//------------------------------------------------------------------------------
-int vtkWeightFunction::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // Threads for this filter's own work only: the process's SMP backend is
-  // left as the user has it.
-  int result = 1;
-  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
-  return result;
-}
-
-//------------------------------------------------------------------------------
-int vtkWeightFunction::ExecuteData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
-  output->ShallowCopy(input);
+  vtkUnstructuredGrid* input = run.Input;
+  vtkUnstructuredGrid* output = run.Output;
 
   // ---- Validation. Every rank reaches the same collective calls, in order.
-  std::ostringstream problem;
-  vtkARMeshKernels::MeshView mesh;
-  std::string meshError;
-  if (!mesh.Build(input, meshError))
-  {
-    problem << meshError << ". ";
-  }
+  std::ostringstream& problem = run.Problem;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
   problem << vtkARInputChecks::Properties()
                .InRange("Epsilon", this->Epsilon, 0.0, VTK_DOUBLE_MAX, "added to |qbar| in Eq. 1")
                .Message();
@@ -229,12 +205,10 @@ int vtkWeightFunction::ExecuteData(
     }
   }
 
-  if (!vtkARMeshKernels::AgreeToProceed(
-        this, problem.str(), mesh, vtkARMeshKernels::Census(mesh), "the weight function"))
+  if (!this->Proceed(run))
   {
     return 1;
   }
-  this->UpdateProgress(0.1);
 
   // ---- Cell variables are averaged to the points to take their gradients.
   const int nqc = static_cast<int>(cellColumns.size());

@@ -60,17 +60,17 @@
 #define vtkWeightFunction_h
 
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkARVolumeFilter.h"
 
 #include <string>
 
 class vtkDataArraySelection;
 
-class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkWeightFunction : public vtkUnstructuredGridAlgorithm
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkWeightFunction : public vtkARVolumeFilter
 {
 public:
   static vtkWeightFunction* New();
-  vtkTypeMacro(vtkWeightFunction, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkWeightFunction, vtkARVolumeFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
@@ -110,10 +110,7 @@ protected:
   vtkWeightFunction();
   ~vtkWeightFunction() override;
 
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
-  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
+  int Execute(Execution& run) override;
 
 private:
   vtkWeightFunction(const vtkWeightFunction&) = delete;

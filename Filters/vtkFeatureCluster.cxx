@@ -15,7 +15,6 @@
 #include "vtkHexahedron.h"
 #include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
-#include "vtkExecutive.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -183,33 +182,134 @@ int vtkFeatureCluster::FillOutputPortInformation(int port, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+/// The state of one execution, shared by the passes of Execute.
+struct vtkFeatureCluster::ClusterState
+{
+  bool AutomaticRange = false;
+  // The sensor and its range.
+  int Association = -1;
+  const char* Name = "";
+  bool AutomaticArray = true;
+  vtkDataArray* Sensor = nullptr;
+  double Lo = 0.0;
+  double Hi = 0.0;
+  // Step 1.
+  std::vector<std::uint8_t> Seeds;
+  double SensorSpan[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  /// This rank's feature region.
+  Region LocalRegion;
+  // The regions gathered on rank 0: merged nodes, seeds, edges.
+  vtkMultiProcessController* Controller = nullptr;
+  int NumberOfRanks = 1;
+  int Rank = 0;
+  std::vector<double> X;
+  std::vector<std::uint8_t> S;
+  std::vector<std::int64_t> E;
+  std::vector<std::vector<std::int64_t>> Merged;
+  /// Steps 2-5 (rank 0), and per region node of this rank: mask, cluster id, distance, medial.
+  ar::FeatureGraphResult Result;
+  std::vector<int> Mine;
+};
+
 int vtkFeatureCluster::Execute(Execution& run)
 {
-  vtkUnstructuredGrid* input = run.Input;
-  vtkUnstructuredGrid* output = run.Output;
-  vtkPolyData* medial = vtkPolyData::GetData(run.OutputVector, 1);
-
+  // The passes below share the state of this execution (ClusterState); every
+  // rank reaches the same collective calls, in order.
+  ClusterState st;
   std::ostringstream& problem = run.Problem;
   vtkARMeshKernels::MeshView& mesh = run.Mesh;
-  const vtkIdType npts = mesh.NumberOfPoints;
-  const vtkIdType ncells = mesh.NumberOfCells;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  bool& automaticRange = st.AutomaticRange;
+  vtkDataArray*& sensor = st.Sensor;
+  double& lo = st.Lo;
+  double& hi = st.Hi;
+  std::vector<std::uint8_t>& seeds = st.Seeds;
+  double (&sensorSpan)[2] = st.SensorSpan;
+
   problem << vtkARInputChecks::Properties()
                .InRange("DilationRings", this->DilationRings, 0, 16)
                .InRange("MinimumClusterSize", this->MinimumClusterSize, 1, VTK_INT_MAX)
                .Message();
-  const bool automaticRange = this->SensorRange[0] == 0.0 && this->SensorRange[1] == 0.0;
+  automaticRange = this->SensorRange[0] == 0.0 && this->SensorRange[1] == 0.0;
   if (!automaticRange && !(this->SensorRange[0] <= this->SensorRange[1]))
   {
     problem << "SensorRange [" << this->SensorRange[0] << ", " << this->SensorRange[1]
             << "] is empty (lower bound above the upper). ";
   }
 
+  this->FindSensor(run, st);
+  this->SelectSeeds(run, st);
+  // ---- A range that seeds every node isolates no feature: the one cluster
+  // would be the whole domain, with no boundary and so no medial points.
+  // Refused (collective: every rank takes part in the sums).
+  {
+    double counts[2] = { 0.0, 0.0 }; // seeded owned nodes, owned nodes
+    for (vtkIdType p = 0; p < npts && ncells > 0; ++p)
+    {
+      if (mesh.IsOwnedPoint(p))
+      {
+        counts[0] += seeds[p] ? 1.0 : 0.0;
+        counts[1] += 1.0;
+      }
+    }
+    vtkARMeshKernels::AllReduceSum(counts, 2);
+    double span[2] = { -sensorSpan[0], sensorSpan[1] };
+    vtkARMeshKernels::AllReduceMax(span, 2);
+    if (problem.str().empty() && counts[1] > 0.0 && counts[0] == counts[1])
+    {
+      problem << "SensorRange [" << lo << ", " << hi << "] selects every node (" << counts[0] << " of "
+              << counts[1] << "): the cluster would be the whole domain, so no feature is isolated (and it has "
+              << "no medial points). The sensor '" << (sensor && sensor->GetName() ? sensor->GetName() : "") << "' spans [" << -span[0] << ", "
+              << span[1] << "] on this mesh: choose a range inside it that holds the feature's values only "
+              << "(the automatic range, [0, 0], is [0.8, 1.2] for NormalMach, [1.5, 2] for WeightFunction). ";
+    }
+  }
+  if (!this->Proceed(run))
+  {
+    return 1;
+  }
+
+  this->GrowRegion(run, st);
+  this->UpdateProgress(0.5);
+  if (this->Cancelled())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
+
+  this->GatherRegions(run, st);
+  this->ClusterOnRoot(run, st);
+  this->UpdateProgress(0.8);
+  if (this->Cancelled())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
+
+  this->WriteOutputs(run, st);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::FindSensor(Execution& run, ClusterState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  std::ostringstream& problem = run.Problem;
+  bool& automaticRange = st.AutomaticRange;
+  int& association = st.Association;
+  const char*& name = st.Name;
+  bool& automaticArray = st.AutomaticArray;
+  vtkDataArray*& sensor = st.Sensor;
+  double& lo = st.Lo;
+  double& hi = st.Hi;
+
   // ---- The sensor (named, or the sensor upstream's) and its range.
-  int association = -1;
+  association = -1;
   vtkInformation* info = this->GetInputArrayInformation(0);
-  const char* name = (info && info->Has(vtkDataObject::FIELD_NAME())) ? info->Get(vtkDataObject::FIELD_NAME()) : "";
-  const bool automaticArray = !name || !*name || std::string(name) == AutomaticArrayName;
-  vtkDataArray* sensor = nullptr;
+  name = (info && info->Has(vtkDataObject::FIELD_NAME())) ? info->Get(vtkDataObject::FIELD_NAME()) : "";
+  automaticArray = !name || !*name || std::string(name) == AutomaticArrayName;
+  sensor = nullptr;
   if (!automaticArray)
   {
     sensor = this->GetInputArrayToProcess(0, input, association);
@@ -235,7 +335,8 @@ int vtkFeatureCluster::Execute(Execution& run)
       }
     }
   }
-  double lo = this->SensorRange[0], hi = this->SensorRange[1];
+  lo = this->SensorRange[0];
+  hi = this->SensorRange[1];
   if (sensor && automaticRange)
   {
     const std::string sensorName = sensor->GetName() ? sensor->GetName() : "";
@@ -255,10 +356,28 @@ int vtkFeatureCluster::Execute(Execution& run)
               << sensorName << "' (only for NormalMach and WeightFunction): set SensorRange. ";
     }
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::SelectSeeds(Execution& run, ClusterState& st)
+{
+  std::ostringstream& problem = run.Problem;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  int& association = st.Association;
+  const char*& name = st.Name;
+  bool& automaticArray = st.AutomaticArray;
+  vtkDataArray*& sensor = st.Sensor;
+  double& lo = st.Lo;
+  double& hi = st.Hi;
+  std::vector<std::uint8_t>& seeds = st.Seeds;
+  double (&sensorSpan)[2] = st.SensorSpan;
 
   // ---- Step 1: the seeds.
-  std::vector<std::uint8_t> seeds(npts, 0);
-  double sensorSpan[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX }; // this rank's finite sensor values
+  seeds.assign(npts, 0);
+  sensorSpan[0] = VTK_DOUBLE_MAX; // this rank's finite sensor values
+  sensorSpan[1] = -VTK_DOUBLE_MAX;
   if (ncells > 0)
   {
     if (!sensor && automaticArray)
@@ -323,35 +442,17 @@ int vtkFeatureCluster::Execute(Execution& run)
       }
     }
   }
-  // ---- A range that seeds every node isolates no feature: the one cluster
-  // would be the whole domain, with no boundary and so no medial points.
-  // Refused (collective: every rank takes part in the sums).
-  {
-    double counts[2] = { 0.0, 0.0 }; // seeded owned nodes, owned nodes
-    for (vtkIdType p = 0; p < npts && ncells > 0; ++p)
-    {
-      if (mesh.IsOwnedPoint(p))
-      {
-        counts[0] += seeds[p] ? 1.0 : 0.0;
-        counts[1] += 1.0;
-      }
-    }
-    vtkARMeshKernels::AllReduceSum(counts, 2);
-    double span[2] = { -sensorSpan[0], sensorSpan[1] };
-    vtkARMeshKernels::AllReduceMax(span, 2);
-    if (problem.str().empty() && counts[1] > 0.0 && counts[0] == counts[1])
-    {
-      problem << "SensorRange [" << lo << ", " << hi << "] selects every node (" << counts[0] << " of "
-              << counts[1] << "): the cluster would be the whole domain, so no feature is isolated (and it has "
-              << "no medial points). The sensor '" << (sensor && sensor->GetName() ? sensor->GetName() : "") << "' spans [" << -span[0] << ", "
-              << span[1] << "] on this mesh: choose a range inside it that holds the feature's values only "
-              << "(the automatic range, [0, 0], is [0.8, 1.2] for NormalMach, [1.5, 2] for WeightFunction). ";
-    }
-  }
-  if (!this->Proceed(run))
-  {
-    return 1;
-  }
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::GrowRegion(Execution& run, ClusterState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  std::vector<std::uint8_t>& seeds = st.Seeds;
+  Region& region = st.LocalRegion;
 
   // ---- The feature region: cells within DilationRings + 1 rings of a seed
   // (rings through shared cells, a superset of rings through edges), so that
@@ -409,7 +510,6 @@ int vtkFeatureCluster::Execute(Execution& run)
     }
   });
 
-  Region region;
   {
     std::vector<vtkIdType> compact(npts, -1);
     for (vtkIdType c = 0; c < ncells; ++c)
@@ -445,20 +545,25 @@ int vtkFeatureCluster::Execute(Execution& run)
       region.Seeds[i] = mesh.IsOwnedPoint(region.PointIds[i]) ? seeds[region.PointIds[i]] : 0;
     }
   }
-  this->UpdateProgress(0.5);
-  if (this->Cancelled())
-  {
-    return 1; // cancelled (collective work under MPI runs to its end)
-  }
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::GatherRegions(Execution& run, ClusterState& st)
+{
+  Region& region = st.LocalRegion;
+  vtkMultiProcessController*& ctrl = st.Controller;
+  int& nranks = st.NumberOfRanks;
+  int& rank = st.Rank;
+  std::vector<double>& X = st.X;
+  std::vector<std::uint8_t>& S = st.S;
+  std::vector<std::int64_t>& E = st.E;
+  std::vector<std::vector<std::int64_t>>& merged = st.Merged;
 
   // ---- Gather the regions on rank 0 and merge the nodes by position.
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
-  const int nranks = ctrl ? ctrl->GetNumberOfProcesses() : 1;
-  const int rank = ctrl ? ctrl->GetLocalProcessId() : 0;
-  std::vector<double> X;
-  std::vector<std::uint8_t> S;
-  std::vector<std::int64_t> E;
-  std::vector<std::vector<std::int64_t>> merged(nranks); // per rank: region node -> merged node
+  ctrl = vtkMultiProcessController::GetGlobalController();
+  nranks = ctrl ? ctrl->GetNumberOfProcesses() : 1;
+  rank = ctrl ? ctrl->GetLocalProcessId() : 0;
+  merged.resize(nranks); // per rank: region node -> merged node
   if (rank == 0)
   {
     std::unordered_map<PositionKey, std::int64_t, PositionHash> index;
@@ -513,11 +618,25 @@ int vtkFeatureCluster::Execute(Execution& run)
     std::vector<vtkIdType> ev(region.Edges.begin(), region.Edges.end());
     ctrl->Send(ev.data(), ev.size(), 0, TAG_EDGES);
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::ClusterOnRoot(Execution& run, ClusterState& st)
+{
+  Region& region = st.LocalRegion;
+  vtkMultiProcessController*& ctrl = st.Controller;
+  int& nranks = st.NumberOfRanks;
+  int& rank = st.Rank;
+  std::vector<double>& X = st.X;
+  std::vector<std::uint8_t>& S = st.S;
+  std::vector<std::int64_t>& E = st.E;
+  std::vector<std::vector<std::int64_t>>& merged = st.Merged;
+  ar::FeatureGraphResult& result = st.Result;
+  std::vector<int>& mine = st.Mine;
 
   // ---- Steps 2-5 on rank 0, results sent back to every rank.
-  ar::FeatureGraphResult result;
   // Per region node of this rank: mask, cluster id, distance, medial.
-  std::vector<int> mine(4 * region.Seeds.size());
+  mine.assign(4 * region.Seeds.size(), 0);
   if (rank == 0)
   {
     ar::FeatureGraphInput graph;
@@ -554,11 +673,23 @@ int vtkFeatureCluster::Execute(Execution& run)
   {
     ctrl->Receive(mine.data(), mine.size(), 0, TAG_RESULTS);
   }
-  this->UpdateProgress(0.8);
-  if (this->Cancelled())
-  {
-    return 1; // cancelled (collective work under MPI runs to its end)
-  }
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::WriteOutputs(Execution& run, ClusterState& st)
+{
+  vtkUnstructuredGrid* output = run.Output;
+  vtkPolyData* medial = vtkPolyData::GetData(run.OutputVector, 1);
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  vtkDataArray*& sensor = st.Sensor;
+  double& lo = st.Lo;
+  double& hi = st.Hi;
+  Region& region = st.LocalRegion;
+  int& rank = st.Rank;
+  std::vector<double>& X = st.X;
+  std::vector<std::uint8_t>& S = st.S;
+  ar::FeatureGraphResult& result = st.Result;
+  std::vector<int>& mine = st.Mine;
 
   // ---- Port 0: the point arrays.
   vtkNew<vtkUnsignedCharArray> mask;
@@ -669,8 +800,6 @@ int vtkFeatureCluster::Execute(Execution& run)
                              : "."));
     }
   }
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

@@ -111,6 +111,18 @@ private:
   vtkFeatureCluster(const vtkFeatureCluster&) = delete;
   void operator=(const vtkFeatureCluster&) = delete;
 
+  ///@{
+  /// The passes of Execute, in order, over the state of one execution
+  /// (ClusterState, in the .cxx).
+  struct ClusterState;
+  void FindSensor(Execution& run, ClusterState& st);
+  void SelectSeeds(Execution& run, ClusterState& st);
+  void GrowRegion(Execution& run, ClusterState& st);
+  void GatherRegions(Execution& run, ClusterState& st);
+  void ClusterOnRoot(Execution& run, ClusterState& st);
+  void WriteOutputs(Execution& run, ClusterState& st);
+  ///@}
+
   double SensorRange[2] = { 0.0, 0.0 };
   int DilationRings = 1;
   int MinimumClusterSize = 10;

@@ -280,13 +280,57 @@ int vtkMedialAxisDelaunay::FillInputPortInformation(int port, vtkInformation* in
 }
 
 //------------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+/// The state of one execution, shared by the passes of RequestData.
+struct vtkMedialAxisDelaunay::SheetState
+{
+  bool HasDomain = false;
+  vtkPolyData* Output = nullptr;
+  /// The input surface (gathered on rank 0) and the Domain's boundary.
+  vtkSmartPointer<vtkPolyData> Surface;
+  vtkSmartPointer<vtkPolyData> Boundary;
+  vtkIdType NumberOfCells = 0;
+  vtkIdType NumberOfPoints = 0;
+  /// The (smoothed) surface; the input's normals, if any.
+  vtkSmartPointer<vtkPolyData> Work;
+  vtkDataArray* GivenNormals = nullptr;
+  /// The core's input: points, oriented normals, triangles, domain, options.
+  std::vector<double> Points;
+  std::vector<double> Normals;
+  std::vector<std::int64_t> Triangles;
+  ar::ClosedSurface Closed;
+  ar::MedialAxisOptions Options;
+  /// The core's output and the polydata made of it.
+  ar::MedialSheet Sheet;
+  vtkIdType NumberOfTriangles = 0;
+  vtkNew<vtkIntArray> SheetId;
+  vtkNew<vtkPolyData> Result;
+  std::vector<double> SheetAreas;
+  double MedianEdge = 0.0;
+};
+
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::Fail(SheetState& st, const std::string& message)
+{
+  vtkErrorMacro(<< message << " The output is empty.");
+  st.Output->Initialize();
+  return false;
+}
+
 int vtkMedialAxisDelaunay::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  // The passes below share the state of this execution (SheetState).
+  SheetState st;
+  auto& hasDomain = st.HasDomain;
+  auto& output = st.Output;
+  auto& surface = st.Surface;
+  auto& boundary = st.Boundary;
+
   vtkDataSet* input = vtkDataSet::GetData(inputVector[0], 0);
-  const bool hasDomain = this->GetNumberOfInputConnections(1) > 0;
+  hasDomain = this->GetNumberOfInputConnections(1) > 0;
   vtkDataSet* domain = hasDomain ? vtkDataSet::GetData(inputVector[1], 0) : nullptr;
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  output = vtkPolyData::GetData(outputVector, 0);
   output->Initialize();
   vtkMultiProcessController* ctrl = Controller();
   const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
@@ -295,9 +339,7 @@ int vtkMedialAxisDelaunay::RequestData(
   // Both ranks interpolate the contour points on the edges of their shared
   // faces, which can differ in the last bits: merge within 1e-9 of the
   // bounding-box diagonal.
-  vtkSmartPointer<vtkPolyData> surface =
-    vtkARMeshKernels::GatherPolyData(LocalSurface(input), 1e-9, false);
-  vtkSmartPointer<vtkPolyData> boundary;
+  surface = vtkARMeshKernels::GatherPolyData(LocalSurface(input), 1e-9, false);
   if (hasDomain)
   {
     boundary = vtkARMeshKernels::GatherDomainBoundary(domain);
@@ -306,11 +348,6 @@ int vtkMedialAxisDelaunay::RequestData(
   {
     return 1;
   }
-  auto fail = [&](const std::string& message) {
-    vtkErrorMacro(<< message << " The output is empty.");
-    output->Initialize();
-    return 1;
-  };
 
   vtkARInputChecks::Properties ranges;
   ranges.OneOf("Smoothing", this->Smoothing, { "None", "Windowed Sinc", "Laplacian" })
@@ -328,19 +365,55 @@ int vtkMedialAxisDelaunay::RequestData(
   {
     std::string text = ranges.Message();
     text.pop_back();
-    return fail("MedialAxisDelaunay: " + text);
+    this->Fail(st, "MedialAxisDelaunay: " + text);
+    return 1;
   }
 
+  if (!this->CheckSurface(st))
+  {
+    return 1;
+  }
+  if (!this->SmoothSurface(st))
+  {
+    return 1;
+  }
+  if (!this->OrientNormals(st))
+  {
+    return 1;
+  }
+  if (!this->ReadDomain(st))
+  {
+    return 1;
+  }
+  if (!this->ComputeSheet(st))
+  {
+    return 1;
+  }
+  this->BuildSheet(st);
+  this->FillSheetHoles(st);
+  this->TrimAtSymmetryPlanes(st);
+  this->WriteOutput(st);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::CheckSurface(SheetState& st)
+{
+  auto& surface = st.Surface;
+  auto& nCells = st.NumberOfCells;
+  auto& nPoints = st.NumberOfPoints;
+
   // ---- The surface: triangles only, finite coordinates.
-  const vtkIdType nCells = surface->GetNumberOfCells();
+  nCells = surface->GetNumberOfCells();
   if (nCells == 0 || surface->GetNumberOfPoints() == 0)
   {
-    return fail("The input surface is empty (no cells): there is no region to take the medial "
+    return this->Fail(st, "The input surface is empty (no cells): there is no region to take the medial "
                 "axis of. Check the iso-value of the Contour upstream.");
   }
   if (surface->GetNumberOfVerts() || surface->GetNumberOfLines() || surface->GetNumberOfStrips())
   {
-    return fail("The input has vertices, lines or triangle strips; MedialAxisDelaunay needs a "
+    return this->Fail(st, "The input has vertices, lines or triangle strips; MedialAxisDelaunay needs a "
                 "surface of triangles (apply Triangulate, or Extract Surface then Triangulate).");
   }
   {
@@ -356,22 +429,32 @@ int vtkMedialAxisDelaunay::RequestData(
         msg << "Cell " << cell << " of the input surface is a " << CellKind(static_cast<int>(npts))
             << " with " << npts
             << " points; MedialAxisDelaunay needs triangles (apply the Triangulate filter first).";
-        return fail(msg.str());
+        return this->Fail(st, msg.str());
       }
     }
   }
-  const vtkIdType nPoints = surface->GetNumberOfPoints();
+  nPoints = surface->GetNumberOfPoints();
   const std::string nonFinite = vtkARInputChecks::NonFinitePoints(surface, "the input surface");
   if (!nonFinite.empty())
   {
-    return fail(nonFinite.substr(0, nonFinite.size() - 1));
+    return this->Fail(st, nonFinite.substr(0, nonFinite.size() - 1));
   }
   this->UpdateProgress(0.05);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::SmoothSurface(SheetState& st)
+{
+  auto& surface = st.Surface;
+  auto& nPoints = st.NumberOfPoints;
+  auto& work = st.Work;
+  auto& givenNormals = st.GivenNormals;
 
   // ---- Smoothing (points keep their ids).
-  vtkSmartPointer<vtkPolyData> work = vtkSmartPointer<vtkPolyData>::New();
+  work = vtkSmartPointer<vtkPolyData>::New();
   work->CopyStructure(surface);
-  vtkDataArray* givenNormals = surface->GetPointData()->GetNormals();
+  givenNormals = surface->GetPointData()->GetNormals();
   if (!givenNormals)
   {
     givenNormals = surface->GetPointData()->GetArray("Normals");
@@ -407,7 +490,7 @@ int vtkMedialAxisDelaunay::RequestData(
     smoother->Update();
     if (smoother->GetOutput()->GetNumberOfPoints() != nPoints)
     {
-      return fail("Smoothing changed the number of surface points.");
+      return this->Fail(st, "Smoothing changed the number of surface points.");
     }
     work = vtkSmartPointer<vtkPolyData>::New();
     work->CopyStructure(smoother->GetOutput());
@@ -445,6 +528,19 @@ int vtkMedialAxisDelaunay::RequestData(
     work->SetPoints(moved);
   }
   this->UpdateProgress(0.1);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::OrientNormals(SheetState& st)
+{
+  auto& nCells = st.NumberOfCells;
+  auto& nPoints = st.NumberOfPoints;
+  auto& work = st.Work;
+  auto& givenNormals = st.GivenNormals;
+  auto& points = st.Points;
+  auto& normals = st.Normals;
+  auto& triangles = st.Triangles;
 
   // ---- Oriented point normals of the (smoothed) surface: the given ones
   // when the points did not move, else recomputed and oriented like the given ones.
@@ -484,10 +580,11 @@ int vtkMedialAxisDelaunay::RequestData(
     computed = normalsFilter->GetOutput()->GetPointData()->GetNormals();
     if (!computed || normalsFilter->GetOutput()->GetNumberOfPoints() != nPoints)
     {
-      return fail("Could not compute point normals of the input surface.");
+      return this->Fail(st, "Could not compute point normals of the input surface.");
     }
   }
-  std::vector<double> points(3 * nPoints), normals(3 * nPoints);
+  points.assign(3 * nPoints, 0.0);
+  normals.assign(3 * nPoints, 0.0);
   for (vtkIdType i = 0; i < nPoints; ++i)
   {
     work->GetPoint(i, &points[3 * i]);
@@ -507,7 +604,6 @@ int vtkMedialAxisDelaunay::RequestData(
     }
     std::copy(n, n + 3, &normals[3 * i]);
   }
-  std::vector<std::int64_t> triangles;
   triangles.reserve(3 * nCells);
   {
     vtkIdType npts;
@@ -518,14 +614,22 @@ int vtkMedialAxisDelaunay::RequestData(
       triangles.insert(triangles.end(), { ids[0], ids[1], ids[2] });
     }
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::ReadDomain(SheetState& st)
+{
+  auto& hasDomain = st.HasDomain;
+  auto& boundary = st.Boundary;
+  auto& closed = st.Closed;
 
   // ---- The domain boundary.
-  ar::ClosedSurface closed;
   if (hasDomain)
   {
     if (!boundary || boundary->GetNumberOfCells() == 0)
     {
-      return fail("The Domain input has no boundary surface (is it an empty or 2-D dataset?).");
+      return this->Fail(st, "The Domain input has no boundary surface (is it an empty or 2-D dataset?).");
     }
     closed.Points.resize(3 * boundary->GetNumberOfPoints());
     for (vtkIdType i = 0; i < boundary->GetNumberOfPoints(); ++i)
@@ -544,9 +648,24 @@ int vtkMedialAxisDelaunay::RequestData(
     }
   }
   this->UpdateProgress(0.15);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::ComputeSheet(SheetState& st)
+{
+  auto& hasDomain = st.HasDomain;
+  auto& surface = st.Surface;
+  auto& boundary = st.Boundary;
+  auto& nPoints = st.NumberOfPoints;
+  auto& points = st.Points;
+  auto& normals = st.Normals;
+  auto& triangles = st.Triangles;
+  auto& closed = st.Closed;
+  auto& options = st.Options;
+  auto& sheet = st.Sheet;
 
   // ---- The medial sheet.
-  ar::MedialAxisOptions options;
   options.MinimumObjectAngle = this->MinimumObjectAngle;
   options.MinimumRadiusFactor = this->MinimumRadiusFactor;
   options.MinimumAreaFraction = this->MinimumAreaFraction;
@@ -590,7 +709,6 @@ int vtkMedialAxisDelaunay::RequestData(
       }
     }
   }
-  ar::MedialSheet sheet;
   std::string error;
   const bool ok = ar::ComputeMedialSheet(points.data(), static_cast<std::size_t>(nPoints),
     normals.data(), triangles.data(), triangles.size() / 3, options,
@@ -600,8 +718,18 @@ int vtkMedialAxisDelaunay::RequestData(
     });
   if (!ok)
   {
-    return fail("Medial axis: " + error);
+    return this->Fail(st, "Medial axis: " + error);
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::BuildSheet(SheetState& st)
+{
+  auto& sheet = st.Sheet;
+  auto& nTri = st.NumberOfTriangles;
+  auto& sheetId = st.SheetId;
+  auto& result = st.Result;
 
   // ---- Output.
   const auto nOut = static_cast<vtkIdType>(sheet.Radius.size());
@@ -616,10 +744,9 @@ int vtkMedialAxisDelaunay::RequestData(
     outPoints->SetPoint(i, &sheet.Points[3 * i]);
     radius->SetValue(i, sheet.Radius[i]);
   }
-  const auto nTri = static_cast<vtkIdType>(sheet.SheetId.size());
+  nTri = static_cast<vtkIdType>(sheet.SheetId.size());
   vtkNew<vtkCellArray> polys;
   polys->AllocateExact(nTri, 3 * nTri);
-  vtkNew<vtkIntArray> sheetId;
   sheetId->SetName("SheetId");
   sheetId->SetNumberOfTuples(nTri);
   for (vtkIdType t = 0; t < nTri; ++t)
@@ -629,23 +756,35 @@ int vtkMedialAxisDelaunay::RequestData(
     polys->InsertNextCell(3, ids);
     sheetId->SetValue(t, sheet.SheetId[t]);
   }
-  vtkNew<vtkPolyData> result;
   result->SetPoints(outPoints);
   result->SetPolys(polys);
   result->GetPointData()->AddArray(radius);
   result->GetCellData()->AddArray(sheetId);
+}
+
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::FillSheetHoles(SheetState& st)
+{
+  auto& points = st.Points;
+  auto& triangles = st.Triangles;
+  auto& sheet = st.Sheet;
+  auto& nTri = st.NumberOfTriangles;
+  auto& sheetId = st.SheetId;
+  auto& result = st.Result;
+  auto& sheetAreas = st.SheetAreas;
+  auto& medianEdge = st.MedianEdge;
 
   // ---- Symmetry planes: the sheet of the mirrored union crosses each plane
   // orthogonally; keep the original side (cut SymmetryTrimDistance short of
   // the plane) and extend the open edges near the plane orthogonally onto
   // it, which also closes gaps that the pruning left next to the plane.
-  std::vector<double> sheetAreas = sheet.SheetAreas;
+  sheetAreas = sheet.SheetAreas;
   vtkNew<vtkIntArray> extended;
   extended->SetName("Extended");
   extended->SetNumberOfTuples(nTri);
   extended->FillValue(0);
   result->GetCellData()->AddArray(extended);
-  double medianEdge = 0.0;
+  medianEdge = 0.0;
   {
     std::vector<double> lengths;
     lengths.reserve(triangles.size());
@@ -719,6 +858,19 @@ int vtkMedialAxisDelaunay::RequestData(
       result->GetCellData()->AddArray(ext);
     }
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::TrimAtSymmetryPlanes(SheetState& st)
+{
+  auto& nPoints = st.NumberOfPoints;
+  auto& points = st.Points;
+  auto& options = st.Options;
+  auto& nTri = st.NumberOfTriangles;
+  auto& result = st.Result;
+  auto& sheetAreas = st.SheetAreas;
+  auto& medianEdge = st.MedianEdge;
+
   if (!options.SymmetryPlanes.empty() && nTri > 0)
   {
     vtkSmartPointer<vtkPolyData> current = result.Get();
@@ -791,6 +943,17 @@ int vtkMedialAxisDelaunay::RequestData(
     }
     result->ShallowCopy(current);
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::WriteOutput(SheetState& st)
+{
+  auto& output = st.Output;
+  auto& options = st.Options;
+  auto& sheet = st.Sheet;
+  auto& result = st.Result;
+  auto& sheetAreas = st.SheetAreas;
+
   output->ShallowCopy(result);
 
   vtkNew<vtkDoubleArray> areas;
@@ -823,8 +986,6 @@ int vtkMedialAxisDelaunay::RequestData(
                     << " Delaunay tetrahedra are interior). Check FeatureRegion (the side of "
                        "the normals), or lower MinimumObjectAngle / MinimumRadiusFactor.");
   }
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

@@ -49,6 +49,13 @@ const char* const RoleNames[6] = { "Velocity", "Pressure", "Density", "Temperatu
   "TotalEnergy" };
 const int RoleComponents[6] = { 3, 1, 1, 1, 3, 1 };
 
+/// Columns of the point state table: a 3-vector then two scalars.
+constexpr int NC = 5;
+
+/// Relative range of p, (max - min) / mean over a cell's points, below
+/// which p is uniform (a free stream): grad p there is round-off.
+constexpr double FlatPressure = 1e-5;
+
 std::string Lower(const char* s)
 {
   std::string out(s ? s : "");
@@ -160,15 +167,47 @@ vtkShockSensor::vtkShockSensor()
 }
 
 //------------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+/// The state of one execution, shared by the passes of Execute.
+struct vtkShockSensor::FlowState
+{
+  vtkDataArray* Found[6] = { nullptr, nullptr, nullptr, nullptr, nullptr, nullptr };
+  int FoundAssociation[6] = { -1, -1, -1, -1, -1, -1 };
+  bool FoundAutomatically[6] = { false, false, false, false, false, false };
+  int Set = AUTOMATIC;
+  bool SetFound = true; ///< false: the set's problem is reported already, its arrays are not read
+  Slot Slots[3];
+  std::vector<double> State;     ///< NC columns at the points: V (or rho V), then two scalars
+  std::vector<double> CellState; ///< the cell arrays' columns, before averaging to the points
+  std::vector<int> CellColumns;
+  double R = 0.0;
+  std::vector<double> GradP;
+  std::vector<double> RawMach;   ///< Mn before masking
+  std::vector<double> PointInfo; ///< |grad p|, V.grad p, Mach
+  double GradMax = 0.0;
+  vtkNew<vtkDoubleArray> NormalMach;
+  std::vector<double> LocalPeak;
+  std::vector<double> CellRange;
+  vtkNew<vtkUnsignedCharArray> ShockCells;
+};
+
 int vtkShockSensor::Execute(Execution& run)
 {
-  vtkUnstructuredGrid* input = run.Input;
+  // The passes below share the state of this execution (FlowState); every
+  // rank reaches the same collective calls, in order.
+  FlowState st;
   vtkUnstructuredGrid* output = run.Output;
-
   std::ostringstream& problem = run.Problem;
   vtkARMeshKernels::MeshView& mesh = run.Mesh;
-  const vtkIdType npts = mesh.NumberOfPoints;
-  const vtkIdType ncells = mesh.NumberOfCells;
+  auto& found = st.Found;
+  int& set = st.Set;
+  auto& slots = st.Slots;
+  std::vector<double>& state = st.State;
+  std::vector<double>& cellState = st.CellState;
+  std::vector<int>& cellColumns = st.CellColumns;
+  double& R = st.R;
+  vtkNew<vtkDoubleArray>& normalMach = st.NormalMach;
+  vtkNew<vtkUnsignedCharArray>& shockCells = st.ShockCells;
 
   problem << vtkARInputChecks::Properties()
                .InRange("PressureGradientThreshold", this->PressureGradientThreshold, 0.0, 1.0,
@@ -185,16 +224,73 @@ int vtkShockSensor::Execute(Execution& run)
             << "; it must be positive (J/(kg K), 287.05 for air), or 0 to take it from the data. ";
   }
 
+  this->ResolveFlowState(run, st);
+  this->ReadFlowState(run, st);
+  this->ResolveGasConstant(run, st);
+  if (!this->Proceed(run))
+  {
+    return 1;
+  }
+
+  if (!cellColumns.empty() &&
+    !vtkARMeshKernels::CellColumnsToPoints(
+      mesh, cellState.data(), NC, cellColumns, state.data(), NC, cellColumns, this))
+  {
+    return 1;
+  }
+
+  if (!this->ToPrimitiveState(run, st))
+  {
+    return 1;
+  }
+  if (!this->PressureGradient(run, st))
+  {
+    return 1;
+  }
+  this->PointQuantities(run, st);
+  this->LocalPeaks(run, st);
+  this->MarkShockCells(run, st);
+
+  output->GetPointData()->AddArray(normalMach);
+  output->GetCellData()->AddArray(shockCells);
+  // What was read: the arrays of the set, the set, and R with temperature.
+  vtkNew<vtkStringArray> used;
+  used->SetName("FlowStateArrays");
+  for (const Slot& s : slots)
+  {
+    used->InsertNextValue(found[s.Index]->GetName());
+  }
+  output->GetFieldData()->AddArray(used);
+  double setUsed = set;
+  output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("VariableSetUsed", &setUsed, 1));
+  if (set == VELOCITY_PRESSURE_TEMPERATURE)
+  {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("GasConstantUsed", &R, 1));
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::ResolveFlowState(Execution& run, FlowState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  std::ostringstream& problem = run.Problem;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  auto& found = st.Found;
+  auto& foundAssociation = st.FoundAssociation;
+  auto& foundAutomatically = st.FoundAutomatically;
+  int& set = st.Set;
+  bool& setFound = st.SetFound;
+  auto& slots = st.Slots;
+
   // ---- The arrays: named, or found by their usual names; the set.
-  vtkDataArray* found[6];
-  int foundAssociation[6];
-  bool foundAutomatically[6];
   for (int i = 0; i < 6; ++i)
   {
     found[i] = this->ResolveArray(i, RoleComponents[i], input, foundAssociation[i], foundAutomatically[i]);
   }
-  int set = this->VariableSet;
-  bool setFound = true; // false: the set's problem is reported already, its arrays are not read
+  set = this->VariableSet;
+  setFound = true; // false: the set's problem is reported already, its arrays are not read
   if (set < VELOCITY_PRESSURE_DENSITY || set > AUTOMATIC)
   {
     problem << "VariableSet is " << set
@@ -263,7 +359,6 @@ int vtkShockSensor::Execute(Execution& run)
     }
   }
 
-  Slot slots[3];
   switch (set)
   {
     case VELOCITY_PRESSURE_TEMPERATURE:
@@ -281,13 +376,26 @@ int vtkShockSensor::Execute(Execution& run)
       slots[1] = { PRESSURE, "Pressure", 1, 3, true };
       slots[2] = { DENSITY, "Density", 1, 4, true };
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::ReadFlowState(Execution& run, FlowState& st)
+{
+  std::ostringstream& problem = run.Problem;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  auto& found = st.Found;
+  auto& foundAssociation = st.FoundAssociation;
+  auto& foundAutomatically = st.FoundAutomatically;
+  bool& setFound = st.SetFound;
+  auto& slots = st.Slots;
+  std::vector<double>& state = st.State;
+  std::vector<double>& cellState = st.CellState;
+  std::vector<int>& cellColumns = st.CellColumns;
 
   // The raw state, 5 columns at the points; cell arrays go through a cell
   // table and are averaged to the points.
-  constexpr int NC = 5;
-  std::vector<double> state(static_cast<size_t>(npts) * NC, 0.0);
-  std::vector<double> cellState;
-  std::vector<int> cellColumns;
+  state.assign(static_cast<size_t>(npts) * NC, 0.0);
   if (ncells > 0 && setFound)
   {
     for (const Slot& s : slots)
@@ -352,11 +460,22 @@ int vtkShockSensor::Execute(Execution& run)
       }
     }
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::ResolveGasConstant(Execution& run, FlowState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  std::ostringstream& problem = run.Problem;
+  auto& found = st.Found;
+  auto& foundAssociation = st.FoundAssociation;
+  int& set = st.Set;
+  double& R = st.R;
 
   // ---- The gas constant with temperature: from the data's p / (rho T)
   // where a density is present too (the median: point data averaged across
   // a shock scatter by a few per cent), else the field data's GasConstant.
-  double R = this->GasConstant;
+  R = this->GasConstant;
   if (set == VELOCITY_PRESSURE_TEMPERATURE)
   {
     double fromData = 0.0;
@@ -416,20 +535,19 @@ int vtkShockSensor::Execute(Execution& run)
       }
     }
   }
-  if (!this->Proceed(run))
-  {
-    return 1;
-  }
+}
 
-  if (!cellColumns.empty() &&
-    !vtkARMeshKernels::CellColumnsToPoints(
-      mesh, cellState.data(), NC, cellColumns, state.data(), NC, cellColumns, this))
-  {
-    return 1;
-  }
+//------------------------------------------------------------------------------
+bool vtkShockSensor::ToPrimitiveState(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const double gamma = this->Gamma;
+  int& set = st.Set;
+  std::vector<double>& state = st.State;
+  double& R = st.R;
 
   // ---- Primitive state at the points: V (3), p, rho.
-  const double gamma = this->Gamma;
   std::atomic<vtkIdType> badPressure(-1);
   vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType p = b; p < e; ++p)
@@ -469,16 +587,24 @@ int vtkShockSensor::Execute(Execution& run)
   }
   if (derivedBad > 0.0)
   {
-    return 1;
+    return false;
   }
   this->UpdateProgress(0.3);
   if (this->Cancelled())
   {
     return 1; // cancelled (collective work under MPI runs to its end)
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkShockSensor::PressureGradient(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  std::vector<double>& state = st.State;
+  std::vector<double>& gradP = st.GradP;
 
   // ---- grad p at the points: weighted average of the cell gradients.
-  std::vector<double> gradP;
   const bool ok = vtkARMeshKernels::CellsToPoints(
     mesh, 3,
     [&](vtkIdType c, double* g, double& weight) {
@@ -504,18 +630,33 @@ int vtkShockSensor::Execute(Execution& run)
   vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
   if (abortFlag > 0.0)
   {
-    return 1;
+    return false;
   }
   this->UpdateProgress(0.7);
   if (this->Cancelled())
   {
     return 1; // cancelled (collective work under MPI runs to its end)
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::PointQuantities(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const double gamma = this->Gamma;
+  std::vector<double>& state = st.State;
+  std::vector<double>& gradP = st.GradP;
+  std::vector<double>& rawMach = st.RawMach;
+  std::vector<double>& pointInfo = st.PointInfo;
+  double& gradMax = st.GradMax;
+  vtkNew<vtkDoubleArray>& normalMach = st.NormalMach;
 
   // ---- Point quantities: Mn, |grad p|, V.grad p, local Mach.
-  std::vector<double> rawMach(npts);
+  rawMach.assign(npts, 0.0);
   double* mn = rawMach.data();
-  std::vector<double> pointInfo(3 * static_cast<size_t>(npts)); // |grad p|, V.grad p, Mach
+  pointInfo.assign(3 * static_cast<size_t>(npts), 0.0); // |grad p|, V.grad p, Mach
   vtkSMPThreadLocal<double> localMax(0.0);
   vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
     double& gmax = localMax.Local();
@@ -537,7 +678,7 @@ int vtkShockSensor::Execute(Execution& run)
       }
     }
   });
-  double gradMax = 0.0;
+  gradMax = 0.0;
   for (double m : localMax)
   {
     gradMax = std::max(gradMax, m);
@@ -547,7 +688,6 @@ int vtkShockSensor::Execute(Execution& run)
   // The output Mn is 0 where |grad p| is below the threshold: there the
   // direction of grad p, and Mn with it, is noise (round-off in a uniform
   // stream), which would only clutter contours and clusters of NormalMach.
-  vtkNew<vtkDoubleArray> normalMach;
   normalMach->SetName("NormalMach");
   normalMach->SetNumberOfTuples(npts);
   {
@@ -560,6 +700,19 @@ int vtkShockSensor::Execute(Execution& run)
       }
     });
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::LocalPeaks(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  std::vector<double>& state = st.State;
+  std::vector<double>& pointInfo = st.PointInfo;
+  vtkNew<vtkDoubleArray>& normalMach = st.NormalMach;
+  std::vector<double>& localPeak = st.LocalPeak;
+  std::vector<double>& cellRange = st.CellRange;
 
   // ---- Local peak of |grad p|: at each point, the largest |grad p| over
   // the points of the cells around it (its two-ring); and whether p varies
@@ -568,10 +721,9 @@ int vtkShockSensor::Execute(Execution& run)
   // FlatPressure (a free stream) grad p is round-off, its direction and Mn
   // are noise at any threshold relative to the (round-off) maximum: those
   // points get Mn = 0 and their cells are never shock cells.
-  constexpr double FlatPressure = 1e-5;
-  std::vector<double> localPeak(npts, 0.0);
+  localPeak.assign(npts, 0.0);
   std::vector<double> localRange(npts, 0.0);
-  std::vector<double> cellRange(static_cast<size_t>(ncells), 0.0);
+  cellRange.assign(static_cast<size_t>(ncells), 0.0);
   {
     vtkSMPThreadLocal<std::vector<double>> partial, partialRange;
     vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
@@ -633,9 +785,22 @@ int vtkShockSensor::Execute(Execution& run)
       }
     }
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::MarkShockCells(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  std::vector<double>& state = st.State;
+  double* mn = st.RawMach.data();
+  std::vector<double>& pointInfo = st.PointInfo;
+  double& gradMax = st.GradMax;
+  std::vector<double>& localPeak = st.LocalPeak;
+  std::vector<double>& cellRange = st.CellRange;
+  vtkNew<vtkUnsignedCharArray>& shockCells = st.ShockCells;
 
   // ---- Shock cells: Mn = 1 crosses the cell, and the noise filters pass.
-  vtkNew<vtkUnsignedCharArray> shockCells;
   shockCells->SetName("ShockCells");
   shockCells->SetNumberOfTuples(ncells);
   unsigned char* sc = shockCells->GetPointer(0);
@@ -699,25 +864,6 @@ int vtkShockSensor::Execute(Execution& run)
       sc[c] = (gm[0] * gp[0] + gm[1] * gp[1] + gm[2] * gp[2] < 0.0) ? 1 : 0;
     }
   });
-
-  output->GetPointData()->AddArray(normalMach);
-  output->GetCellData()->AddArray(shockCells);
-  // What was read: the arrays of the set, the set, and R with temperature.
-  vtkNew<vtkStringArray> used;
-  used->SetName("FlowStateArrays");
-  for (const Slot& s : slots)
-  {
-    used->InsertNextValue(found[s.Index]->GetName());
-  }
-  output->GetFieldData()->AddArray(used);
-  double setUsed = set;
-  output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("VariableSetUsed", &setUsed, 1));
-  if (set == VELOCITY_PRESSURE_TEMPERATURE)
-  {
-    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("GasConstantUsed", &R, 1));
-  }
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

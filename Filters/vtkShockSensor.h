@@ -185,6 +185,20 @@ private:
   vtkShockSensor(const vtkShockSensor&) = delete;
   void operator=(const vtkShockSensor&) = delete;
 
+  ///@{
+  /// The passes of Execute, in order, over the state of one execution
+  /// (FlowState, in the .cxx).
+  struct FlowState;
+  void ResolveFlowState(Execution& run, FlowState& st);
+  void ReadFlowState(Execution& run, FlowState& st);
+  void ResolveGasConstant(Execution& run, FlowState& st);
+  bool ToPrimitiveState(Execution& run, FlowState& st);
+  bool PressureGradient(Execution& run, FlowState& st);
+  void PointQuantities(Execution& run, FlowState& st);
+  void LocalPeaks(Execution& run, FlowState& st);
+  void MarkShockCells(Execution& run, FlowState& st);
+  ///@}
+
   int VariableSet = AUTOMATIC;
   double Gamma = 1.4;
   double GasConstant = 0.0;

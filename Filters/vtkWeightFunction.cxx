@@ -72,20 +72,62 @@ void vtkWeightFunction::RemoveAllVariables()
 }
 
 //------------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+/// The state of one execution, shared by the passes of Execute.
+struct vtkWeightFunction::WeightState
+{
+  std::vector<Variable> Variables;
+  int NumberOfColumns = 0;       ///< nq: the variables' components
+  std::vector<double> Q;         ///< the variables at the points, nq columns
+  std::vector<double> CellValues; ///< cell variables, cell-major, nqc columns
+  std::vector<int> CellColumns;   ///< their columns in Q
+  int NumberOfCellColumns = 0;   ///< nqc
+  std::vector<int> CellIndexOfColumn; ///< column -> index into CellValues, or -1
+  std::vector<float> Wk;         ///< W^k per cell, 3 columns
+  double WMax = 0.0;             ///< the maximum of W^k over cells and directions
+};
+
 int vtkWeightFunction::Execute(Execution& run)
 {
-  vtkUnstructuredGrid* input = run.Input;
-  vtkUnstructuredGrid* output = run.Output;
+  // The passes below share the state of this execution (WeightState).
+  WeightState st;
+  std::ostringstream& problem = run.Problem;
 
   // ---- Validation. Every rank reaches the same collective calls, in order.
-  std::ostringstream& problem = run.Problem;
-  vtkARMeshKernels::MeshView& mesh = run.Mesh;
   problem << vtkARInputChecks::Properties()
                .InRange("Epsilon", this->Epsilon, 0.0, VTK_DOUBLE_MAX, "added to |qbar| in Eq. 1")
                .Message();
 
-  std::vector<Variable> variables;
-  int nq = 0;
+  this->SelectVariables(run, st);
+  this->PackValues(run, st);
+
+  if (!this->Proceed(run))
+  {
+    return 1;
+  }
+
+  if (!this->CellValuesToPoints(run, st))
+  {
+    return 1;
+  }
+  if (!this->ComputeWeights(run, st))
+  {
+    return 1;
+  }
+  this->WriteWeights(run, st);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkWeightFunction::SelectVariables(Execution& run, WeightState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  std::ostringstream& problem = run.Problem;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  std::vector<Variable>& variables = st.Variables;
+  int& nq = st.NumberOfColumns;
+
   vtkPointData* pd = input->GetPointData();
   vtkCellData* cd = input->GetCellData();
   // The variables: those selected, or with none selected (pvpython on a
@@ -154,13 +196,22 @@ int vtkWeightFunction::Execute(Execution& run)
                "(rho, U, p) by name: choose one or more point or cell arrays (the paper uses the "
                "conserved variables). ";
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkWeightFunction::PackValues(Execution& run, WeightState& st)
+{
+  std::ostringstream& problem = run.Problem;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  std::vector<Variable>& variables = st.Variables;
+  int& nq = st.NumberOfColumns;
+  std::vector<double>& Q = st.Q;
+  std::vector<double>& cellValues = st.CellValues;
+  std::vector<int>& cellColumns = st.CellColumns;
 
   // Values of all variables at the points: nq columns.
-  const vtkIdType npts = mesh.NumberOfPoints;
-  const vtkIdType ncells = mesh.NumberOfCells;
-  std::vector<double> Q(static_cast<size_t>(npts) * std::max(nq, 1));
-  std::vector<double> cellValues; // cell variables, cell-major, nqc columns
-  std::vector<int> cellColumns;   // their columns in Q
+  Q.assign(static_cast<size_t>(npts) * std::max(nq, 1), 0.0);
   if (problem.str().empty() && ncells > 0)
   {
     for (const Variable& v : variables)
@@ -204,14 +255,21 @@ int vtkWeightFunction::Execute(Execution& run)
       }
     }
   }
+}
 
-  if (!this->Proceed(run))
-  {
-    return 1;
-  }
+//------------------------------------------------------------------------------
+bool vtkWeightFunction::CellValuesToPoints(Execution& run, WeightState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  int& nq = st.NumberOfColumns;
+  std::vector<double>& Q = st.Q;
+  std::vector<double>& cellValues = st.CellValues;
+  std::vector<int>& cellColumns = st.CellColumns;
+  int& nqc = st.NumberOfCellColumns;
+  std::vector<int>& cellIndexOfColumn = st.CellIndexOfColumn;
 
   // ---- Cell variables are averaged to the points to take their gradients.
-  const int nqc = static_cast<int>(cellColumns.size());
+  nqc = static_cast<int>(cellColumns.size());
   if (nqc > 0)
   {
     std::vector<int> tableColumns(nqc);
@@ -222,16 +280,35 @@ int vtkWeightFunction::Execute(Execution& run)
     if (!vtkARMeshKernels::CellColumnsToPoints(
           mesh, cellValues.data(), nqc, tableColumns, Q.data(), nq, cellColumns, this))
     {
-      return 1;
+      return false;
     }
   }
   // Column -> index into cellValues, or -1 for a point variable.
-  std::vector<int> cellIndexOfColumn(nq, -1);
+  cellIndexOfColumn.assign(nq, -1);
   for (int k = 0; k < nqc; ++k)
   {
     cellIndexOfColumn[cellColumns[k]] = k;
   }
   this->UpdateProgress(0.2);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
+{
+  // Passes 1 and 2 of Eq. 1-2 together (about 190 lines): both evaluate the
+  // normalized gradients of every cell with the one lambda below.
+  vtkUnstructuredGrid* input = run.Input;
+  vtkUnstructuredGrid* output = run.Output;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  int& nq = st.NumberOfColumns;
+  std::vector<double>& Q = st.Q;
+  std::vector<double>& cellValues = st.CellValues;
+  int& nqc = st.NumberOfCellColumns;
+  std::vector<int>& cellIndexOfColumn = st.CellIndexOfColumn;
+  std::vector<float>& Wk = st.Wk;
+  double& wMax = st.WMax;
 
   // Normalized gradient magnitudes r_ik of cell c; returns false for cells
   // that do not take part (not a linear 3-D cell, degenerate).
@@ -342,7 +419,7 @@ int vtkWeightFunction::Execute(Execution& run)
   if (abortFlag > 0.0)
   {
     output->ShallowCopy(input);
-    return 1;
+    return false;
   }
   // [.]_max of Eq. 1: per variable, over all cells and all three directions.
   // A variable whose relative change across the whole domain stays below
@@ -359,7 +436,7 @@ int vtkWeightFunction::Execute(Execution& run)
   this->UpdateProgress(0.5);
 
   // ---- Pass 2: W^k per cell (Boolean sum over variables), and its maximum.
-  std::vector<float> Wk(3 * static_cast<size_t>(ncells), 0.0f);
+  Wk.assign(3 * static_cast<size_t>(ncells), 0.0f);
   vtkSMPThreadLocal<double> localWMax(0.0);
   vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
     if (aborted || vtkARMeshKernels::Aborted(this))
@@ -393,7 +470,7 @@ int vtkWeightFunction::Execute(Execution& run)
       }
     }
   });
-  double wMax = 0.0;
+  wMax = 0.0;
   for (double m : localWMax)
   {
     wMax = std::max(wMax, m);
@@ -404,9 +481,22 @@ int vtkWeightFunction::Execute(Execution& run)
   if (abortFlag > 0.0)
   {
     output->ShallowCopy(input);
-    return 1;
+    return false;
   }
   this->UpdateProgress(0.8);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkWeightFunction::WriteWeights(Execution& run, WeightState& st)
+{
+  vtkUnstructuredGrid* output = run.Output;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  std::vector<Variable>& variables = st.Variables;
+  std::vector<float>& Wk = st.Wk;
+  double& wMax = st.WMax;
 
   // ---- Pass 3: W = 1 + Boolean sum over directions of W^k / max.
   vtkNew<vtkDoubleArray> result;
@@ -466,8 +556,6 @@ int vtkWeightFunction::Execute(Execution& run)
       output->GetPointData()->AddArray(pointResult);
     }
   }
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

@@ -116,6 +116,17 @@ private:
   vtkWeightFunction(const vtkWeightFunction&) = delete;
   void operator=(const vtkWeightFunction&) = delete;
 
+  ///@{
+  /// The passes of Execute, in order, over the state of one execution
+  /// (WeightState, in the .cxx).
+  struct WeightState;
+  void SelectVariables(Execution& run, WeightState& st);
+  void PackValues(Execution& run, WeightState& st);
+  bool CellValuesToPoints(Execution& run, WeightState& st);
+  bool ComputeWeights(Execution& run, WeightState& st);
+  void WriteWeights(Execution& run, WeightState& st);
+  ///@}
+
   vtkDataArraySelection* VariableSelection;
   double Epsilon = 1e-3;
   std::string ResultArrayName = "WeightFunction";

@@ -125,8 +125,6 @@ void vtkWeightFunction::SelectVariables(Execution& run, WeightState& st)
   vtkUnstructuredGrid* input = run.Input;
   std::ostringstream& problem = run.Problem;
   vtkARMeshKernels::MeshView& mesh = run.Mesh;
-  std::vector<Variable>& variables = st.Variables;
-  int& nq = st.NumberOfColumns;
 
   vtkPointData* pd = input->GetPointData();
   vtkCellData* cd = input->GetCellData();
@@ -185,9 +183,9 @@ void vtkWeightFunction::SelectVariables(Execution& run, WeightState& st)
       }
       continue;
     }
-    v.FirstColumn = nq;
-    nq += v.Array->GetNumberOfComponents();
-    variables.push_back(v);
+    v.FirstColumn = st.NumberOfColumns;
+    st.NumberOfColumns += v.Array->GetNumberOfComponents();
+    st.Variables.push_back(v);
   }
   if (names.empty())
   {
@@ -204,22 +202,17 @@ void vtkWeightFunction::PackValues(Execution& run, WeightState& st)
   std::ostringstream& problem = run.Problem;
   const vtkIdType npts = run.Mesh.NumberOfPoints;
   const vtkIdType ncells = run.Mesh.NumberOfCells;
-  std::vector<Variable>& variables = st.Variables;
-  int& nq = st.NumberOfColumns;
-  std::vector<double>& Q = st.Q;
-  std::vector<double>& cellValues = st.CellValues;
-  std::vector<int>& cellColumns = st.CellColumns;
 
   // Values of all variables at the points: nq columns.
-  Q.assign(static_cast<size_t>(npts) * std::max(nq, 1), 0.0);
+  st.Q.assign(static_cast<size_t>(npts) * std::max(st.NumberOfColumns, 1), 0.0);
   if (problem.str().empty() && ncells > 0)
   {
-    for (const Variable& v : variables)
+    for (const Variable& v : st.Variables)
     {
       if (v.OnPoints)
       {
         const vtkIdType bad =
-          vtkARMeshKernels::PackComponents(v.Array, Q.data(), nq, v.FirstColumn);
+          vtkARMeshKernels::PackComponents(v.Array, st.Q.data(), st.NumberOfColumns, v.FirstColumn);
         if (bad >= 0)
         {
           problem << "Point array '" << v.Array->GetName() << "' holds NaN or Inf (point " << bad
@@ -230,21 +223,21 @@ void vtkWeightFunction::PackValues(Execution& run, WeightState& st)
       {
         for (int k = 0; k < v.Array->GetNumberOfComponents(); ++k)
         {
-          cellColumns.push_back(v.FirstColumn + k);
+          st.CellColumns.push_back(v.FirstColumn + k);
         }
       }
     }
-    const int nqc = static_cast<int>(cellColumns.size());
+    const int nqc = static_cast<int>(st.CellColumns.size());
     if (nqc > 0)
     {
-      cellValues.resize(static_cast<size_t>(ncells) * nqc);
+      st.CellValues.resize(static_cast<size_t>(ncells) * nqc);
       int offset = 0;
-      for (const Variable& v : variables)
+      for (const Variable& v : st.Variables)
       {
         if (!v.OnPoints)
         {
           const vtkIdType bad =
-            vtkARMeshKernels::PackComponents(v.Array, cellValues.data(), nqc, offset);
+            vtkARMeshKernels::PackComponents(v.Array, st.CellValues.data(), nqc, offset);
           if (bad >= 0)
           {
             problem << "Cell array '" << v.Array->GetName() << "' holds NaN or Inf (cell " << bad
@@ -261,33 +254,27 @@ void vtkWeightFunction::PackValues(Execution& run, WeightState& st)
 bool vtkWeightFunction::CellValuesToPoints(Execution& run, WeightState& st)
 {
   vtkARMeshKernels::MeshView& mesh = run.Mesh;
-  int& nq = st.NumberOfColumns;
-  std::vector<double>& Q = st.Q;
-  std::vector<double>& cellValues = st.CellValues;
-  std::vector<int>& cellColumns = st.CellColumns;
-  int& nqc = st.NumberOfCellColumns;
-  std::vector<int>& cellIndexOfColumn = st.CellIndexOfColumn;
 
   // ---- Cell variables are averaged to the points to take their gradients.
-  nqc = static_cast<int>(cellColumns.size());
-  if (nqc > 0)
+  st.NumberOfCellColumns = static_cast<int>(st.CellColumns.size());
+  if (st.NumberOfCellColumns > 0)
   {
-    std::vector<int> tableColumns(nqc);
-    for (int k = 0; k < nqc; ++k)
+    std::vector<int> tableColumns(st.NumberOfCellColumns);
+    for (int k = 0; k < st.NumberOfCellColumns; ++k)
     {
       tableColumns[k] = k;
     }
     if (!vtkARMeshKernels::CellColumnsToPoints(
-          mesh, cellValues.data(), nqc, tableColumns, Q.data(), nq, cellColumns, this))
+          mesh, st.CellValues.data(), st.NumberOfCellColumns, tableColumns, st.Q.data(), st.NumberOfColumns, st.CellColumns, this))
     {
       return false;
     }
   }
   // Column -> index into cellValues, or -1 for a point variable.
-  cellIndexOfColumn.assign(nq, -1);
-  for (int k = 0; k < nqc; ++k)
+  st.CellIndexOfColumn.assign(st.NumberOfColumns, -1);
+  for (int k = 0; k < st.NumberOfCellColumns; ++k)
   {
-    cellIndexOfColumn[cellColumns[k]] = k;
+    st.CellIndexOfColumn[st.CellColumns[k]] = k;
   }
   this->UpdateProgress(0.2);
   return true;
@@ -302,13 +289,6 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
   vtkUnstructuredGrid* output = run.Output;
   vtkARMeshKernels::MeshView& mesh = run.Mesh;
   const vtkIdType ncells = run.Mesh.NumberOfCells;
-  int& nq = st.NumberOfColumns;
-  std::vector<double>& Q = st.Q;
-  std::vector<double>& cellValues = st.CellValues;
-  int& nqc = st.NumberOfCellColumns;
-  std::vector<int>& cellIndexOfColumn = st.CellIndexOfColumn;
-  std::vector<float>& Wk = st.Wk;
-  double& wMax = st.WMax;
 
   // Normalized gradient magnitudes r_ik of cell c; returns false for cells
   // that do not take part (not a linear 3-D cell, degenerate).
@@ -323,17 +303,17 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
       {
         return false;
       }
-      const double* q0 = &Q[static_cast<size_t>(ids[0]) * nq];
-      const double* q1 = &Q[static_cast<size_t>(ids[1]) * nq];
-      const double* q2 = &Q[static_cast<size_t>(ids[2]) * nq];
-      const double* q3 = &Q[static_cast<size_t>(ids[3]) * nq];
-      for (int i = 0; i < nq; ++i)
+      const double* q0 = &st.Q[static_cast<size_t>(ids[0]) * st.NumberOfColumns];
+      const double* q1 = &st.Q[static_cast<size_t>(ids[1]) * st.NumberOfColumns];
+      const double* q2 = &st.Q[static_cast<size_t>(ids[2]) * st.NumberOfColumns];
+      const double* q3 = &st.Q[static_cast<size_t>(ids[3]) * st.NumberOfColumns];
+      for (int i = 0; i < st.NumberOfColumns; ++i)
       {
         const double d1 = q1[i] - q0[i], d2 = q2[i] - q0[i], d3 = q3[i] - q0[i];
         double mean = 0.25 * (q0[i] + q1[i] + q2[i] + q3[i]);
-        if (cellIndexOfColumn[i] >= 0)
+        if (st.CellIndexOfColumn[i] >= 0)
         {
-          mean = cellValues[static_cast<size_t>(c) * nqc + cellIndexOfColumn[i]];
+          mean = st.CellValues[static_cast<size_t>(c) * st.NumberOfCellColumns + st.CellIndexOfColumn[i]];
         }
         const double inv = 1.0 / (std::abs(mean) + eps);
         for (int k = 0; k < 3; ++k)
@@ -351,21 +331,21 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
       return false;
     }
     const vtkIdType* ids = mesh.CellPoints(c);
-    for (int i = 0; i < nq; ++i)
+    for (int i = 0; i < st.NumberOfColumns; ++i)
     {
       double g0 = 0.0, g1 = 0.0, g2 = 0.0, mean = 0.0;
       for (int a = 0; a < n; ++a)
       {
-        const double q = Q[static_cast<size_t>(ids[a]) * nq + i];
+        const double q = st.Q[static_cast<size_t>(ids[a]) * st.NumberOfColumns + i];
         g0 += W[a][0] * q;
         g1 += W[a][1] * q;
         g2 += W[a][2] * q;
         mean += q;
       }
       mean /= n;
-      if (cellIndexOfColumn[i] >= 0)
+      if (st.CellIndexOfColumn[i] >= 0)
       {
-        mean = cellValues[static_cast<size_t>(c) * nqc + cellIndexOfColumn[i]];
+        mean = st.CellValues[static_cast<size_t>(c) * st.NumberOfCellColumns + st.CellIndexOfColumn[i]];
       }
       const double inv = 1.0 / (std::abs(mean) + eps);
       r[3 * i + 0] = std::abs(g0) * inv;
@@ -385,20 +365,20 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
       return;
     }
     std::vector<double>& mx = localMax.Local();
-    mx.resize(3 * nq, 0.0);
-    std::vector<double> r(3 * nq);
+    mx.resize(3 * st.NumberOfColumns, 0.0);
+    std::vector<double> r(3 * st.NumberOfColumns);
     for (vtkIdType c = b; c < e; ++c)
     {
       if (mesh.IsOwnedCell(c) && normalizedGradients(c, r.data()))
       {
-        for (int j = 0; j < 3 * nq; ++j)
+        for (int j = 0; j < 3 * st.NumberOfColumns; ++j)
         {
           mx[j] = std::max(mx[j], r[j]);
         }
       }
     }
   });
-  std::vector<double> rMax(3 * nq, 0.0);
+  std::vector<double> rMax(3 * st.NumberOfColumns, 0.0);
   for (auto& mx : localMax)
   {
     for (size_t j = 0; j < mx.size(); ++j)
@@ -410,7 +390,7 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
   double bounds[6];
   input->GetBounds(bounds);
   double extent[6] = { -bounds[0], bounds[1], -bounds[2], bounds[3], -bounds[4], bounds[5] };
-  vtkARMeshKernels::AllReduceMax(rMax.data(), 3 * nq);
+  vtkARMeshKernels::AllReduceMax(rMax.data(), 3 * st.NumberOfColumns);
   vtkARMeshKernels::AllReduceMax(extent, 6);
   const double L = std::sqrt((extent[1] + extent[0]) * (extent[1] + extent[0]) +
     (extent[3] + extent[2]) * (extent[3] + extent[2]) + (extent[5] + extent[4]) * (extent[5] + extent[4]));
@@ -424,8 +404,8 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
   // [.]_max of Eq. 1: per variable, over all cells and all three directions.
   // A variable whose relative change across the whole domain stays below
   // 1e-8 (r * L) is constant up to round-off and contributes nothing.
-  std::vector<double> rInv(3 * nq, 0.0);
-  for (int i = 0; i < nq; ++i)
+  std::vector<double> rInv(3 * st.NumberOfColumns, 0.0);
+  for (int i = 0; i < st.NumberOfColumns; ++i)
   {
     const double m = std::max({ rMax[3 * i], rMax[3 * i + 1], rMax[3 * i + 2] });
     for (int k = 0; k < 3; ++k)
@@ -436,7 +416,7 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
   this->UpdateProgress(0.5);
 
   // ---- Pass 2: W^k per cell (Boolean sum over variables), and its maximum.
-  Wk.assign(3 * static_cast<size_t>(ncells), 0.0f);
+  st.Wk.assign(3 * static_cast<size_t>(ncells), 0.0f);
   vtkSMPThreadLocal<double> localWMax(0.0);
   vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
     if (aborted || vtkARMeshKernels::Aborted(this))
@@ -445,7 +425,7 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
       return;
     }
     double& wmax = localWMax.Local();
-    std::vector<double> r(3 * nq);
+    std::vector<double> r(3 * st.NumberOfColumns);
     for (vtkIdType c = b; c < e; ++c)
     {
       if (!normalizedGradients(c, r.data()))
@@ -453,7 +433,7 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
         continue;
       }
       double w[3] = { 0.0, 0.0, 0.0 };
-      for (int i = 0; i < nq; ++i)
+      for (int i = 0; i < st.NumberOfColumns; ++i)
       {
         for (int k = 0; k < 3; ++k)
         {
@@ -462,7 +442,7 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
       }
       for (int k = 0; k < 3; ++k)
       {
-        Wk[3 * static_cast<size_t>(c) + k] = static_cast<float>(w[k]);
+        st.Wk[3 * static_cast<size_t>(c) + k] = static_cast<float>(w[k]);
         if (mesh.IsOwnedCell(c))
         {
           wmax = std::max(wmax, w[k]);
@@ -470,12 +450,12 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
       }
     }
   });
-  wMax = 0.0;
+  st.WMax = 0.0;
   for (double m : localWMax)
   {
-    wMax = std::max(wMax, m);
+    st.WMax = std::max(st.WMax, m);
   }
-  vtkARMeshKernels::AllReduceMax(&wMax, 1);
+  vtkARMeshKernels::AllReduceMax(&st.WMax, 1);
   abortFlag = aborted ? 1.0 : 0.0;
   vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
   if (abortFlag > 0.0)
@@ -494,23 +474,20 @@ void vtkWeightFunction::WriteWeights(Execution& run, WeightState& st)
   vtkARMeshKernels::MeshView& mesh = run.Mesh;
   const vtkIdType npts = run.Mesh.NumberOfPoints;
   const vtkIdType ncells = run.Mesh.NumberOfCells;
-  std::vector<Variable>& variables = st.Variables;
-  std::vector<float>& Wk = st.Wk;
-  double& wMax = st.WMax;
 
   // ---- Pass 3: W = 1 + Boolean sum over directions of W^k / max.
   vtkNew<vtkDoubleArray> result;
   result->SetName(this->ResultArrayName.c_str());
   result->SetNumberOfTuples(ncells);
   double* out = result->GetPointer(0);
-  const double wInv = wMax > 0.0 ? 1.0 / wMax : 0.0;
+  const double wInv = st.WMax > 0.0 ? 1.0 / st.WMax : 0.0;
   vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType c = b; c < e; ++c)
     {
       double s = 0.0;
       for (int k = 0; k < 3; ++k)
       {
-        s = BooleanSum(s, std::min(1.0, Wk[3 * static_cast<size_t>(c) + k] * wInv));
+        s = BooleanSum(s, std::min(1.0, st.Wk[3 * static_cast<size_t>(c) + k] * wInv));
       }
       out[c] = 1.0 + s;
     }
@@ -518,7 +495,7 @@ void vtkWeightFunction::WriteWeights(Execution& run, WeightState& st)
   output->GetCellData()->AddArray(result);
   vtkNew<vtkStringArray> used; // the variables W was computed from (chosen or automatic)
   used->SetName("VariablesUsed");
-  for (const Variable& v : variables)
+  for (const Variable& v : st.Variables)
   {
     used->InsertNextValue(v.Array->GetName());
   }

@@ -2,6 +2,7 @@
 #include "vtkFeatureCluster.h"
 
 #include "vtkARInputChecks.h"
+#include "vtkARVolumeFilterExecution.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -14,7 +15,6 @@
 #include "vtkHexahedron.h"
 #include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
-#include "vtkExecutive.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -164,6 +164,7 @@ const int TAG_RESULTS = 48105;
 
 //------------------------------------------------------------------------------
 vtkFeatureCluster::vtkFeatureCluster()
+  : vtkARVolumeFilter("feature clustering")
 {
   this->SetNumberOfOutputPorts(2);
   this->SetInputArrayToProcess(
@@ -181,107 +182,160 @@ int vtkFeatureCluster::FillOutputPortInformation(int port, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
-int vtkFeatureCluster::RequestUpdateExtent(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // The region around a node on a partition boundary reaches DilationRings + 1
-  // rings into the neighbouring partition. The piece comes from the port that
-  // is asked: when only the medial points (port 1) feed a QuadricFit, port
-  // 0's request is a stale "piece 0 of 1", which made every rank read the
-  // whole mesh.
-  int port = 0;
-  if (request && request->Has(vtkExecutive::FROM_OUTPUT_PORT()))
-  {
-    port = std::max(0, request->Get(vtkExecutive::FROM_OUTPUT_PORT()));
-  }
-  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, this->DilationRings + 1, port);
-  return 1;
-}
-
 //------------------------------------------------------------------------------
-int vtkFeatureCluster::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+/// The state of one execution, shared by the passes of Execute.
+struct vtkFeatureCluster::ClusterState
 {
-  // Threads for this filter's own work only: the process's SMP backend is
-  // left as the user has it.
-  int result = 1;
-  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
-  return result;
-}
+  bool AutomaticRange = false;
+  // The sensor and its range.
+  int Association = -1;
+  const char* Name = "";
+  bool AutomaticArray = true;
+  vtkDataArray* Sensor = nullptr;
+  double Lo = 0.0;
+  double Hi = 0.0;
+  // Step 1.
+  std::vector<std::uint8_t> Seeds;
+  double SensorSpan[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  /// This rank's feature region.
+  Region LocalRegion;
+  // The regions gathered on rank 0: merged nodes, seeds, edges.
+  vtkMultiProcessController* Controller = nullptr;
+  int NumberOfRanks = 1;
+  int Rank = 0;
+  std::vector<double> X;
+  std::vector<std::uint8_t> S;
+  std::vector<std::int64_t> E;
+  std::vector<std::vector<std::int64_t>> Merged;
+  /// Steps 2-5 (rank 0), and per region node of this rank: mask, cluster id, distance, medial.
+  ar::FeatureGraphResult Result;
+  std::vector<int> Mine;
+};
 
-//------------------------------------------------------------------------------
-int vtkFeatureCluster::ExecuteData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkFeatureCluster::Execute(Execution& run)
 {
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
-  vtkPolyData* medial = vtkPolyData::GetData(outputVector, 1);
-  output->ShallowCopy(input);
+  // The passes below share the state of this execution (ClusterState); every
+  // rank reaches the same collective calls, in order.
+  ClusterState st;
+  std::ostringstream& problem = run.Problem;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
 
-  std::ostringstream problem;
-  vtkARMeshKernels::MeshView mesh;
-  std::string meshError;
-  if (!mesh.Build(input, meshError))
-  {
-    problem << meshError << ". ";
-  }
-  const vtkIdType npts = mesh.NumberOfPoints;
-  const vtkIdType ncells = mesh.NumberOfCells;
   problem << vtkARInputChecks::Properties()
                .InRange("DilationRings", this->DilationRings, 0, 16)
                .InRange("MinimumClusterSize", this->MinimumClusterSize, 1, VTK_INT_MAX)
                .Message();
-  const bool automaticRange = this->SensorRange[0] == 0.0 && this->SensorRange[1] == 0.0;
-  if (!automaticRange && !(this->SensorRange[0] <= this->SensorRange[1]))
+  st.AutomaticRange = this->SensorRange[0] == 0.0 && this->SensorRange[1] == 0.0;
+  if (!st.AutomaticRange && !(this->SensorRange[0] <= this->SensorRange[1]))
   {
     problem << "SensorRange [" << this->SensorRange[0] << ", " << this->SensorRange[1]
             << "] is empty (lower bound above the upper). ";
   }
 
-  // ---- The sensor (named, or the sensor upstream's) and its range.
-  int association = -1;
-  vtkInformation* info = this->GetInputArrayInformation(0);
-  const char* name = (info && info->Has(vtkDataObject::FIELD_NAME())) ? info->Get(vtkDataObject::FIELD_NAME()) : "";
-  const bool automaticArray = !name || !*name || std::string(name) == AutomaticArrayName;
-  vtkDataArray* sensor = nullptr;
-  if (!automaticArray)
+  this->FindSensor(run, st);
+  this->SelectSeeds(run, st);
+  // ---- A range that seeds every node isolates no feature: the one cluster
+  // would be the whole domain, with no boundary and so no medial points.
+  // Refused (collective: every rank takes part in the sums).
   {
-    sensor = this->GetInputArrayToProcess(0, input, association);
+    double counts[2] = { 0.0, 0.0 }; // seeded owned nodes, owned nodes
+    for (vtkIdType p = 0; p < npts && ncells > 0; ++p)
+    {
+      if (mesh.IsOwnedPoint(p))
+      {
+        counts[0] += st.Seeds[p] ? 1.0 : 0.0;
+        counts[1] += 1.0;
+      }
+    }
+    vtkARMeshKernels::AllReduceSum(counts, 2);
+    double span[2] = { -st.SensorSpan[0], st.SensorSpan[1] };
+    vtkARMeshKernels::AllReduceMax(span, 2);
+    if (problem.str().empty() && counts[1] > 0.0 && counts[0] == counts[1])
+    {
+      problem << "SensorRange [" << st.Lo << ", " << st.Hi << "] selects every node (" << counts[0] << " of "
+              << counts[1] << "): the cluster would be the whole domain, so no feature is isolated (and it has "
+              << "no medial points). The sensor '" << (st.Sensor && st.Sensor->GetName() ? st.Sensor->GetName() : "") << "' spans [" << -span[0] << ", "
+              << span[1] << "] on this mesh: choose a range inside it that holds the feature's values only "
+              << "(the automatic range, [0, 0], is [0.8, 1.2] for NormalMach, [1.5, 2] for WeightFunction). ";
+    }
+  }
+  if (!this->Proceed(run))
+  {
+    return 1;
+  }
+
+  this->GrowRegion(run, st);
+  this->UpdateProgress(0.5);
+  if (this->Cancelled())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
+
+  this->GatherRegions(run, st);
+  this->ClusterOnRoot(run, st);
+  this->UpdateProgress(0.8);
+  if (this->Cancelled())
+  {
+    return 1; // cancelled (collective work under MPI runs to its end)
+  }
+
+  this->WriteOutputs(run, st);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::FindSensor(Execution& run, ClusterState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  std::ostringstream& problem = run.Problem;
+
+  // ---- The sensor (named, or the sensor upstream's) and its range.
+  st.Association = -1;
+  vtkInformation* info = this->GetInputArrayInformation(0);
+  st.Name = (info && info->Has(vtkDataObject::FIELD_NAME())) ? info->Get(vtkDataObject::FIELD_NAME()) : "";
+  st.AutomaticArray = !st.Name || !*st.Name || std::string(st.Name) == AutomaticArrayName;
+  st.Sensor = nullptr;
+  if (!st.AutomaticArray)
+  {
+    st.Sensor = this->GetInputArrayToProcess(0, input, st.Association);
   }
   else
   {
     for (const char* candidate : { "NormalMach", "WeightFunction" })
     {
-      for (int where = 0; where < 2 && !sensor; ++where)
+      for (int where = 0; where < 2 && !st.Sensor; ++where)
       {
         vtkDataSetAttributes* data = where == 0 ? static_cast<vtkDataSetAttributes*>(input->GetPointData())
                                                 : static_cast<vtkDataSetAttributes*>(input->GetCellData());
         vtkDataArray* a = data->GetArray(candidate);
         if (a && a->GetNumberOfComponents() == 1)
         {
-          sensor = a;
-          association = where == 0 ? vtkDataObject::FIELD_ASSOCIATION_POINTS : vtkDataObject::FIELD_ASSOCIATION_CELLS;
+          st.Sensor = a;
+          st.Association = where == 0 ? vtkDataObject::FIELD_ASSOCIATION_POINTS : vtkDataObject::FIELD_ASSOCIATION_CELLS;
         }
       }
-      if (sensor)
+      if (st.Sensor)
       {
         break;
       }
     }
   }
-  double lo = this->SensorRange[0], hi = this->SensorRange[1];
-  if (sensor && automaticRange)
+  st.Lo = this->SensorRange[0];
+  st.Hi = this->SensorRange[1];
+  if (st.Sensor && st.AutomaticRange)
   {
-    const std::string sensorName = sensor->GetName() ? sensor->GetName() : "";
+    const std::string sensorName = st.Sensor->GetName() ? st.Sensor->GetName() : "";
     if (sensorName == "NormalMach")
     {
-      lo = 0.8;
-      hi = 1.2;
+      st.Lo = 0.8;
+      st.Hi = 1.2;
     }
     else if (sensorName == "WeightFunction")
     {
-      lo = 1.5;
-      hi = 2.0;
+      st.Lo = 1.5;
+      st.Hi = 2.0;
     }
     else
     {
@@ -289,47 +343,57 @@ int vtkFeatureCluster::ExecuteData(
               << sensorName << "' (only for NormalMach and WeightFunction): set SensorRange. ";
     }
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::SelectSeeds(Execution& run, ClusterState& st)
+{
+  std::ostringstream& problem = run.Problem;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
 
   // ---- Step 1: the seeds.
-  std::vector<std::uint8_t> seeds(npts, 0);
-  double sensorSpan[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX }; // this rank's finite sensor values
+  st.Seeds.assign(npts, 0);
+  st.SensorSpan[0] = VTK_DOUBLE_MAX; // this rank's finite sensor values
+  st.SensorSpan[1] = -VTK_DOUBLE_MAX;
   if (ncells > 0)
   {
-    if (!sensor && automaticArray)
+    if (!st.Sensor && st.AutomaticArray)
     {
       problem << "The sensor array is automatic, and the input has neither NormalMach (Shock Sensor) "
                  "nor WeightFunction (Weight Function): apply a sensor first, or pick the array. ";
     }
-    else if (!sensor)
+    else if (!st.Sensor)
     {
-      problem << "The sensor array '" << name << "' is not a point or cell array of the input. ";
+      problem << "The sensor array '" << st.Name << "' is not a point or cell array of the input. ";
     }
-    else if (sensor->GetNumberOfComponents() != 1)
+    else if (st.Sensor->GetNumberOfComponents() != 1)
     {
-      problem << "The sensor array '" << sensor->GetName() << "' has "
-              << sensor->GetNumberOfComponents() << " components; it needs 1. ";
+      problem << "The sensor array '" << st.Sensor->GetName() << "' has "
+              << st.Sensor->GetNumberOfComponents() << " components; it needs 1. ";
     }
     else
     {
-      const bool onPoints = association == vtkDataObject::FIELD_ASSOCIATION_POINTS;
+      const bool onPoints = st.Association == vtkDataObject::FIELD_ASSOCIATION_POINTS;
       std::vector<double> values(onPoints ? npts : ncells);
-      const vtkIdType bad = vtkARMeshKernels::PackComponents(sensor, values.data(), 1, 0);
+      const vtkIdType bad = vtkARMeshKernels::PackComponents(st.Sensor, values.data(), 1, 0);
       if (bad >= 0)
       {
-        problem << "The sensor array '" << sensor->GetName() << "' holds NaN or Inf ("
+        problem << "The sensor array '" << st.Sensor->GetName() << "' holds NaN or Inf ("
                 << (onPoints ? "point " : "cell ") << bad << "). ";
       }
       for (const double v : values)
       {
-        sensorSpan[0] = std::isfinite(v) ? std::min(sensorSpan[0], v) : sensorSpan[0];
-        sensorSpan[1] = std::isfinite(v) ? std::max(sensorSpan[1], v) : sensorSpan[1];
+        st.SensorSpan[0] = std::isfinite(v) ? std::min(st.SensorSpan[0], v) : st.SensorSpan[0];
+        st.SensorSpan[1] = std::isfinite(v) ? std::max(st.SensorSpan[1], v) : st.SensorSpan[1];
       }
       if (onPoints)
       {
         vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
           for (vtkIdType p = b; p < e; ++p)
           {
-            seeds[p] = (values[p] >= lo && values[p] <= hi) ? 1 : 0;
+            st.Seeds[p] = (values[p] >= st.Lo && values[p] <= st.Hi) ? 1 : 0;
           }
         });
       }
@@ -340,7 +404,7 @@ int vtkFeatureCluster::ExecuteData(
         vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
           for (vtkIdType c = b; c < e; ++c)
           {
-            if (mesh.IsVolumeCell(c) && values[c] >= lo && values[c] <= hi)
+            if (mesh.IsVolumeCell(c) && values[c] >= st.Lo && values[c] <= st.Hi)
             {
               const vtkIdType* ids = mesh.CellPoints(c);
               for (int a = 0; a < mesh.CellSize(c); ++a)
@@ -352,46 +416,20 @@ int vtkFeatureCluster::ExecuteData(
         });
         for (vtkIdType p = 0; p < npts; ++p)
         {
-          seeds[p] = marks[p].load(std::memory_order_relaxed);
+          st.Seeds[p] = marks[p].load(std::memory_order_relaxed);
         }
       }
     }
   }
-  // ---- A range that seeds every node isolates no feature: the one cluster
-  // would be the whole domain, with no boundary and so no medial points.
-  // Refused (collective: every rank takes part in the sums).
-  {
-    double counts[2] = { 0.0, 0.0 }; // seeded owned nodes, owned nodes
-    for (vtkIdType p = 0; p < npts && ncells > 0; ++p)
-    {
-      if (mesh.IsOwnedPoint(p))
-      {
-        counts[0] += seeds[p] ? 1.0 : 0.0;
-        counts[1] += 1.0;
-      }
-    }
-    vtkARMeshKernels::AllReduceSum(counts, 2);
-    double span[2] = { -sensorSpan[0], sensorSpan[1] };
-    vtkARMeshKernels::AllReduceMax(span, 2);
-    if (problem.str().empty() && counts[1] > 0.0 && counts[0] == counts[1])
-    {
-      problem << "SensorRange [" << lo << ", " << hi << "] selects every node (" << counts[0] << " of "
-              << counts[1] << "): the cluster would be the whole domain, so no feature is isolated (and it has "
-              << "no medial points). The sensor '" << (sensor && sensor->GetName() ? sensor->GetName() : "") << "' spans [" << -span[0] << ", "
-              << span[1] << "] on this mesh: choose a range inside it that holds the feature's values only "
-              << "(the automatic range, [0, 0], is [0.8, 1.2] for NormalMach, [1.5, 2] for WeightFunction). ";
-    }
-  }
-  if (!vtkARMeshKernels::AgreeToProceed(
-        this, problem.str(), mesh, vtkARMeshKernels::Census(mesh), "feature clustering"))
-  {
-    return 1;
-  }
-  this->UpdateProgress(0.1);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
-  {
-    return 1; // cancelled (collective work under MPI runs to its end)
-  }
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::GrowRegion(Execution& run, ClusterState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
 
   // ---- The feature region: cells within DilationRings + 1 rings of a seed
   // (rings through shared cells, a superset of rings through edges), so that
@@ -401,7 +439,7 @@ int vtkFeatureCluster::ExecuteData(
   vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType p = b; p < e; ++p)
     {
-      level[p].store(seeds[p] ? 0 : 255, std::memory_order_relaxed);
+      level[p].store(st.Seeds[p] ? 0 : 255, std::memory_order_relaxed);
     }
   });
   for (int ring = 0; ring < rings; ++ring)
@@ -449,7 +487,6 @@ int vtkFeatureCluster::ExecuteData(
     }
   });
 
-  Region region;
   {
     std::vector<vtkIdType> compact(npts, -1);
     for (vtkIdType c = 0; c < ncells; ++c)
@@ -464,141 +501,143 @@ int vtkFeatureCluster::ExecuteData(
       {
         if (compact[ids[a]] < 0)
         {
-          compact[ids[a]] = static_cast<vtkIdType>(region.PointIds.size());
-          region.PointIds.push_back(ids[a]);
+          compact[ids[a]] = static_cast<vtkIdType>(st.LocalRegion.PointIds.size());
+          st.LocalRegion.PointIds.push_back(ids[a]);
         }
       }
       ForEachEdge(input, c, mesh.Types[c], n, [&](int a, int b) {
-        region.Edges.push_back(compact[ids[a]]);
-        region.Edges.push_back(compact[ids[b]]);
+        st.LocalRegion.Edges.push_back(compact[ids[a]]);
+        st.LocalRegion.Edges.push_back(compact[ids[b]]);
       });
     }
-    region.X.resize(3 * region.PointIds.size());
-    region.Seeds.resize(region.PointIds.size());
-    for (size_t i = 0; i < region.PointIds.size(); ++i)
+    st.LocalRegion.X.resize(3 * st.LocalRegion.PointIds.size());
+    st.LocalRegion.Seeds.resize(st.LocalRegion.PointIds.size());
+    for (size_t i = 0; i < st.LocalRegion.PointIds.size(); ++i)
     {
-      std::copy_n(mesh.X + 3 * region.PointIds[i], 3, &region.X[3 * i]);
+      std::copy_n(mesh.X + 3 * st.LocalRegion.PointIds[i], 3, &st.LocalRegion.X[3 * i]);
       // Only owned nodes seed: a ghost copy's sensor value may come from an
       // incomplete stencil, and its owner sends the right one. (Ghost copies
       // in range still grew the region, so that this rank's nodes next to
       // another rank's seeds are in it.)
-      region.Seeds[i] = mesh.IsOwnedPoint(region.PointIds[i]) ? seeds[region.PointIds[i]] : 0;
+      st.LocalRegion.Seeds[i] = mesh.IsOwnedPoint(st.LocalRegion.PointIds[i]) ? st.Seeds[st.LocalRegion.PointIds[i]] : 0;
     }
   }
-  this->UpdateProgress(0.5);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
-  {
-    return 1; // cancelled (collective work under MPI runs to its end)
-  }
+}
 
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::GatherRegions(Execution& run, ClusterState& st)
+{
   // ---- Gather the regions on rank 0 and merge the nodes by position.
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
-  const int nranks = ctrl ? ctrl->GetNumberOfProcesses() : 1;
-  const int rank = ctrl ? ctrl->GetLocalProcessId() : 0;
-  std::vector<double> X;
-  std::vector<std::uint8_t> S;
-  std::vector<std::int64_t> E;
-  std::vector<std::vector<std::int64_t>> merged(nranks); // per rank: region node -> merged node
-  if (rank == 0)
+  st.Controller = vtkMultiProcessController::GetGlobalController();
+  st.NumberOfRanks = st.Controller ? st.Controller->GetNumberOfProcesses() : 1;
+  st.Rank = st.Controller ? st.Controller->GetLocalProcessId() : 0;
+  st.Merged.resize(st.NumberOfRanks); // per rank: region node -> merged node
+  if (st.Rank == 0)
   {
     std::unordered_map<PositionKey, std::int64_t, PositionHash> index;
     auto absorb = [&](int from, const std::vector<double>& x, const std::vector<std::uint8_t>& s,
                     const std::vector<std::int64_t>& e) {
       const size_t m = s.size();
-      merged[from].resize(m);
+      st.Merged[from].resize(m);
       for (size_t i = 0; i < m; ++i)
       {
         PositionKey key{ { x[3 * i], x[3 * i + 1], x[3 * i + 2] } };
         auto it = index.find(key);
         if (it == index.end())
         {
-          it = index.emplace(key, static_cast<std::int64_t>(S.size())).first;
-          X.insert(X.end(), key.X, key.X + 3);
-          S.push_back(s[i]);
+          it = index.emplace(key, static_cast<std::int64_t>(st.S.size())).first;
+          st.X.insert(st.X.end(), key.X, key.X + 3);
+          st.S.push_back(s[i]);
         }
         else
         {
-          S[it->second] |= s[i];
+          st.S[it->second] |= s[i];
         }
-        merged[from][i] = it->second;
+        st.Merged[from][i] = it->second;
       }
       for (std::int64_t v : e)
       {
-        E.push_back(merged[from][v]);
+        st.E.push_back(st.Merged[from][v]);
       }
     };
-    absorb(0, region.X, region.Seeds, region.Edges);
-    for (int r = 1; r < nranks; ++r)
+    absorb(0, st.LocalRegion.X, st.LocalRegion.Seeds, st.LocalRegion.Edges);
+    for (int r = 1; r < st.NumberOfRanks; ++r)
     {
       vtkIdType sizes[2];
-      ctrl->Receive(sizes, 2, r, TAG_SIZES);
+      st.Controller->Receive(sizes, 2, r, TAG_SIZES);
       std::vector<double> x(3 * sizes[0]);
       std::vector<std::uint8_t> s(sizes[0]);
       std::vector<std::int64_t> e(sizes[1]);
-      ctrl->Receive(x.data(), x.size(), r, TAG_POINTS);
-      ctrl->Receive(reinterpret_cast<unsigned char*>(s.data()), s.size(), r, TAG_SEEDS);
+      st.Controller->Receive(x.data(), x.size(), r, TAG_POINTS);
+      st.Controller->Receive(reinterpret_cast<unsigned char*>(s.data()), s.size(), r, TAG_SEEDS);
       std::vector<vtkIdType> ev(e.size());
-      ctrl->Receive(ev.data(), ev.size(), r, TAG_EDGES);
+      st.Controller->Receive(ev.data(), ev.size(), r, TAG_EDGES);
       std::copy(ev.begin(), ev.end(), e.begin());
       absorb(r, x, s, e);
     }
   }
   else
   {
-    vtkIdType sizes[2] = { static_cast<vtkIdType>(region.Seeds.size()),
-      static_cast<vtkIdType>(region.Edges.size()) };
-    ctrl->Send(sizes, 2, 0, TAG_SIZES);
-    ctrl->Send(region.X.data(), region.X.size(), 0, TAG_POINTS);
-    ctrl->Send(reinterpret_cast<unsigned char*>(region.Seeds.data()), region.Seeds.size(), 0, TAG_SEEDS);
-    std::vector<vtkIdType> ev(region.Edges.begin(), region.Edges.end());
-    ctrl->Send(ev.data(), ev.size(), 0, TAG_EDGES);
+    vtkIdType sizes[2] = { static_cast<vtkIdType>(st.LocalRegion.Seeds.size()),
+      static_cast<vtkIdType>(st.LocalRegion.Edges.size()) };
+    st.Controller->Send(sizes, 2, 0, TAG_SIZES);
+    st.Controller->Send(st.LocalRegion.X.data(), st.LocalRegion.X.size(), 0, TAG_POINTS);
+    st.Controller->Send(reinterpret_cast<unsigned char*>(st.LocalRegion.Seeds.data()), st.LocalRegion.Seeds.size(), 0, TAG_SEEDS);
+    std::vector<vtkIdType> ev(st.LocalRegion.Edges.begin(), st.LocalRegion.Edges.end());
+    st.Controller->Send(ev.data(), ev.size(), 0, TAG_EDGES);
   }
+}
 
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::ClusterOnRoot(Execution& run, ClusterState& st)
+{
   // ---- Steps 2-5 on rank 0, results sent back to every rank.
-  ar::FeatureGraphResult result;
   // Per region node of this rank: mask, cluster id, distance, medial.
-  std::vector<int> mine(4 * region.Seeds.size());
-  if (rank == 0)
+  st.Mine.assign(4 * st.LocalRegion.Seeds.size(), 0);
+  if (st.Rank == 0)
   {
     ar::FeatureGraphInput graph;
-    graph.Points = X.data();
-    graph.NumberOfPoints = S.size();
-    graph.Seeds = S.data();
-    graph.Edges = E.data();
-    graph.NumberOfEdges = E.size() / 2;
+    graph.Points = st.X.data();
+    graph.NumberOfPoints = st.S.size();
+    graph.Seeds = st.S.data();
+    graph.Edges = st.E.data();
+    graph.NumberOfEdges = st.E.size() / 2;
     graph.DilationRings = this->DilationRings;
     graph.MinimumClusterSize = this->MinimumClusterSize;
-    result = ar::ClusterFeatures(graph);
-    for (int r = 0; r < nranks; ++r)
+    st.Result = ar::ClusterFeatures(graph);
+    for (int r = 0; r < st.NumberOfRanks; ++r)
     {
-      std::vector<int> back(4 * merged[r].size());
-      for (size_t i = 0; i < merged[r].size(); ++i)
+      std::vector<int> back(4 * st.Merged[r].size());
+      for (size_t i = 0; i < st.Merged[r].size(); ++i)
       {
-        const std::int64_t m = merged[r][i];
-        back[4 * i] = result.Mask[m];
-        back[4 * i + 1] = result.ClusterId[m];
-        back[4 * i + 2] = result.Distance[m];
-        back[4 * i + 3] = result.Medial[m];
+        const std::int64_t m = st.Merged[r][i];
+        back[4 * i] = st.Result.Mask[m];
+        back[4 * i + 1] = st.Result.ClusterId[m];
+        back[4 * i + 2] = st.Result.Distance[m];
+        back[4 * i + 3] = st.Result.Medial[m];
       }
       if (r == 0)
       {
-        mine.swap(back);
+        st.Mine.swap(back);
       }
       else
       {
-        ctrl->Send(back.data(), back.size(), r, TAG_RESULTS);
+        st.Controller->Send(back.data(), back.size(), r, TAG_RESULTS);
       }
     }
   }
   else
   {
-    ctrl->Receive(mine.data(), mine.size(), 0, TAG_RESULTS);
+    st.Controller->Receive(st.Mine.data(), st.Mine.size(), 0, TAG_RESULTS);
   }
-  this->UpdateProgress(0.8);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
-  {
-    return 1; // cancelled (collective work under MPI runs to its end)
-  }
+}
+
+//------------------------------------------------------------------------------
+void vtkFeatureCluster::WriteOutputs(Execution& run, ClusterState& st)
+{
+  vtkUnstructuredGrid* output = run.Output;
+  vtkPolyData* medial = vtkPolyData::GetData(run.OutputVector, 1);
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
 
   // ---- Port 0: the point arrays.
   vtkNew<vtkUnsignedCharArray> mask;
@@ -617,13 +656,13 @@ int vtkFeatureCluster::ExecuteData(
   medialFlag->SetName("MedialPoint");
   medialFlag->SetNumberOfTuples(npts);
   medialFlag->Fill(0);
-  for (size_t i = 0; i < region.PointIds.size(); ++i)
+  for (size_t i = 0; i < st.LocalRegion.PointIds.size(); ++i)
   {
-    const vtkIdType p = region.PointIds[i];
-    mask->SetValue(p, static_cast<unsigned char>(mine[4 * i]));
-    clusterId->SetValue(p, mine[4 * i + 1]);
-    distance->SetValue(p, mine[4 * i + 2]);
-    medialFlag->SetValue(p, static_cast<unsigned char>(mine[4 * i + 3]));
+    const vtkIdType p = st.LocalRegion.PointIds[i];
+    mask->SetValue(p, static_cast<unsigned char>(st.Mine[4 * i]));
+    clusterId->SetValue(p, st.Mine[4 * i + 1]);
+    distance->SetValue(p, st.Mine[4 * i + 2]);
+    medialFlag->SetValue(p, static_cast<unsigned char>(st.Mine[4 * i + 3]));
   }
   output->GetPointData()->AddArray(mask);
   output->GetPointData()->AddArray(clusterId);
@@ -633,30 +672,30 @@ int vtkFeatureCluster::ExecuteData(
   auto addSelection = [&](vtkFieldData* fd) {
     vtkNew<vtkStringArray> used;
     used->SetName("SensorArrayUsed");
-    used->InsertNextValue(sensor && sensor->GetName() ? sensor->GetName() : "");
+    used->InsertNextValue(st.Sensor && st.Sensor->GetName() ? st.Sensor->GetName() : "");
     fd->AddArray(used);
-    const double range[2] = { lo, hi };
+    const double range[2] = { st.Lo, st.Hi };
     fd->AddArray(vtkARMeshKernels::FieldArray("SensorRangeUsed", range, 2));
   };
   addSelection(output->GetFieldData());
 
   // ---- Port 1 (rank 0): the medial points, ordered by cluster then position.
-  if (rank == 0)
+  if (st.Rank == 0)
   {
     std::vector<std::int64_t> order;
-    for (size_t m = 0; m < result.Medial.size(); ++m)
+    for (size_t m = 0; m < st.Result.Medial.size(); ++m)
     {
-      if (result.Medial[m])
+      if (st.Result.Medial[m])
       {
         order.push_back(static_cast<std::int64_t>(m));
       }
     }
     std::sort(order.begin(), order.end(), [&](std::int64_t a, std::int64_t b) {
-      if (result.ClusterId[a] != result.ClusterId[b])
+      if (st.Result.ClusterId[a] != st.Result.ClusterId[b])
       {
-        return result.ClusterId[a] < result.ClusterId[b];
+        return st.Result.ClusterId[a] < st.Result.ClusterId[b];
       }
-      return std::lexicographical_compare(&X[3 * a], &X[3 * a + 3], &X[3 * b], &X[3 * b + 3]);
+      return std::lexicographical_compare(&st.X[3 * a], &st.X[3 * a + 3], &st.X[3 * b], &st.X[3 * b + 3]);
     });
     vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble();
@@ -678,11 +717,11 @@ int vtkFeatureCluster::ExecuteData(
     for (size_t k = 0; k < order.size(); ++k)
     {
       const std::int64_t m = order[k];
-      pts->SetPoint(static_cast<vtkIdType>(k), &X[3 * m]);
-      cid->SetValue(static_cast<vtkIdType>(k), result.ClusterId[m]);
-      size->SetValue(static_cast<vtkIdType>(k), result.LocalSize[m]);
-      weight->SetValue(static_cast<vtkIdType>(k), result.LocalSize[m] > 0 ? 1.0 / result.LocalSize[m] : 0.0);
-      dist->SetValue(static_cast<vtkIdType>(k), result.Distance[m]);
+      pts->SetPoint(static_cast<vtkIdType>(k), &st.X[3 * m]);
+      cid->SetValue(static_cast<vtkIdType>(k), st.Result.ClusterId[m]);
+      size->SetValue(static_cast<vtkIdType>(k), st.Result.LocalSize[m]);
+      weight->SetValue(static_cast<vtkIdType>(k), st.Result.LocalSize[m] > 0 ? 1.0 / st.Result.LocalSize[m] : 0.0);
+      dist->SetValue(static_cast<vtkIdType>(k), st.Result.Distance[m]);
       const vtkIdType id = static_cast<vtkIdType>(k);
       verts->InsertNextCell(1, &id);
     }
@@ -694,23 +733,21 @@ int vtkFeatureCluster::ExecuteData(
     medial->GetPointData()->AddArray(dist);
     vtkNew<vtkIdTypeArray> clusterSizes;
     clusterSizes->SetName("ClusterSizes");
-    clusterSizes->SetNumberOfTuples(static_cast<vtkIdType>(result.ClusterSizes.size()));
-    for (size_t k = 0; k < result.ClusterSizes.size(); ++k)
+    clusterSizes->SetNumberOfTuples(static_cast<vtkIdType>(st.Result.ClusterSizes.size()));
+    for (size_t k = 0; k < st.Result.ClusterSizes.size(); ++k)
     {
-      clusterSizes->SetValue(static_cast<vtkIdType>(k), result.ClusterSizes[k]);
+      clusterSizes->SetValue(static_cast<vtkIdType>(k), st.Result.ClusterSizes[k]);
     }
     medial->GetFieldData()->AddArray(clusterSizes);
     addSelection(medial->GetFieldData());
-    if (result.ClusterSizes.empty())
+    if (st.Result.ClusterSizes.empty())
     {
-      vtkWarningMacro(<< "No cluster: no node has a sensor value in [" << lo << ", " << hi << "]"
-                      << (std::count(S.begin(), S.end(), 1) > 0
+      vtkWarningMacro(<< "No cluster: no node has a sensor value in [" << st.Lo << ", " << st.Hi << "]"
+                      << (std::count(st.S.begin(), st.S.end(), 1) > 0
                              ? " in a cluster of at least MinimumClusterSize nodes."
                              : "."));
     }
   }
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

@@ -59,13 +59,13 @@
 #define vtkFeatureCluster_h
 
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkARVolumeFilter.h"
 
-class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkFeatureCluster : public vtkUnstructuredGridAlgorithm
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkFeatureCluster : public vtkARVolumeFilter
 {
 public:
   static vtkFeatureCluster* New();
-  vtkTypeMacro(vtkFeatureCluster, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkFeatureCluster, vtkARVolumeFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -102,14 +102,26 @@ protected:
   ~vtkFeatureCluster() override = default;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
-  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
+  /// DilationRings + 1: the region around a node on a partition boundary
+  /// reaches that far into the neighbouring partition.
+  int GetExtraGhostLevels() override { return this->DilationRings + 1; }
+  int Execute(Execution& run) override;
 
 private:
   vtkFeatureCluster(const vtkFeatureCluster&) = delete;
   void operator=(const vtkFeatureCluster&) = delete;
+
+  ///@{
+  /// The passes of Execute, in order, over the state of one execution
+  /// (ClusterState, in the .cxx).
+  struct ClusterState;
+  void FindSensor(Execution& run, ClusterState& st);
+  void SelectSeeds(Execution& run, ClusterState& st);
+  void GrowRegion(Execution& run, ClusterState& st);
+  void GatherRegions(Execution& run, ClusterState& st);
+  void ClusterOnRoot(Execution& run, ClusterState& st);
+  void WriteOutputs(Execution& run, ClusterState& st);
+  ///@}
 
   double SensorRange[2] = { 0.0, 0.0 };
   int DilationRings = 1;

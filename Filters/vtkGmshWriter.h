@@ -51,20 +51,14 @@
 #define vtkGmshWriter_h
 
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
-#include "vtkWriter.h"
+#include "vtkARSolverMeshWriter.h"
 
-class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkGmshWriter : public vtkWriter
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkGmshWriter : public vtkARSolverMeshWriter
 {
 public:
   static vtkGmshWriter* New();
-  vtkTypeMacro(vtkGmshWriter, vtkWriter);
+  vtkTypeMacro(vtkGmshWriter, vtkARSolverMeshWriter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// The .msh file to write.
-  vtkSetStringMacro(FileName);
-  vtkGetStringMacro(FileName);
-  ///@}
 
   ///@{
   /// Name of the 3-D physical group of the volume cells. Default "fluid".
@@ -72,36 +66,17 @@ public:
   vtkGetStringMacro(VolumeName);
   ///@}
 
-  ///@{
-  /// Name of the patch that takes the boundary faces no patch covers (all
-  /// of them for a plain volume mesh). Default "boundary".
-  vtkSetStringMacro(DefaultPatchName);
-  vtkGetStringMacro(DefaultPatchName);
-  ///@}
-
-  ///@{
-  /// Multiblock input: a patch point matches the nearest volume point within
-  /// this fraction of the volume's bounding-box diagonal. Default 1e-6.
-  /// In [0, 1]: refused otherwise (nothing written), not clamped.
-  vtkSetMacro(PointMatchingTolerance, double);
-  vtkGetMacro(PointMatchingTolerance, double);
-  ///@}
-
 protected:
   vtkGmshWriter();
   ~vtkGmshWriter() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  void WriteData() override;
+  bool WriteMesh(const vtkARSolverMesh& mesh, Buffer& out, std::string& error) override;
 
 private:
   vtkGmshWriter(const vtkGmshWriter&) = delete;
   void operator=(const vtkGmshWriter&) = delete;
 
-  char* FileName = nullptr;
   char* VolumeName = nullptr;
-  char* DefaultPatchName = nullptr;
-  double PointMatchingTolerance = 1e-6;
 };
 
 #endif

@@ -280,14 +280,54 @@ int vtkMedialAxisDelaunay::FillInputPortInformation(int port, vtkInformation* in
 }
 
 //------------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+/// The state of one execution, shared by the passes of RequestData.
+struct vtkMedialAxisDelaunay::SheetState
+{
+  bool HasDomain = false;
+  vtkPolyData* Output = nullptr;
+  /// The input surface (gathered on rank 0) and the Domain's boundary.
+  vtkSmartPointer<vtkPolyData> Surface;
+  vtkSmartPointer<vtkPolyData> Boundary;
+  vtkIdType NumberOfCells = 0;
+  vtkIdType NumberOfPoints = 0;
+  /// The (smoothed) surface; the input's normals, if any.
+  vtkSmartPointer<vtkPolyData> Work;
+  vtkDataArray* GivenNormals = nullptr;
+  /// The core's input: points, oriented normals, triangles, domain, options.
+  std::vector<double> Points;
+  std::vector<double> Normals;
+  std::vector<std::int64_t> Triangles;
+  ar::ClosedSurface Closed;
+  ar::MedialAxisOptions Options;
+  /// The core's output and the polydata made of it.
+  ar::MedialSheet Sheet;
+  vtkIdType NumberOfTriangles = 0;
+  vtkNew<vtkIntArray> SheetId;
+  vtkNew<vtkPolyData> Result;
+  std::vector<double> SheetAreas;
+  double MedianEdge = 0.0;
+};
+
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::Fail(SheetState& st, const std::string& message)
+{
+  vtkErrorMacro(<< message << " The output is empty.");
+  st.Output->Initialize();
+  return false;
+}
+
 int vtkMedialAxisDelaunay::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  // The passes below share the state of this execution (SheetState).
+  SheetState st;
+
   vtkDataSet* input = vtkDataSet::GetData(inputVector[0], 0);
-  const bool hasDomain = this->GetNumberOfInputConnections(1) > 0;
-  vtkDataSet* domain = hasDomain ? vtkDataSet::GetData(inputVector[1], 0) : nullptr;
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  output->Initialize();
+  st.HasDomain = this->GetNumberOfInputConnections(1) > 0;
+  vtkDataSet* domain = st.HasDomain ? vtkDataSet::GetData(inputVector[1], 0) : nullptr;
+  st.Output = vtkPolyData::GetData(outputVector, 0);
+  st.Output->Initialize();
   vtkMultiProcessController* ctrl = Controller();
   const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
 
@@ -295,22 +335,15 @@ int vtkMedialAxisDelaunay::RequestData(
   // Both ranks interpolate the contour points on the edges of their shared
   // faces, which can differ in the last bits: merge within 1e-9 of the
   // bounding-box diagonal.
-  vtkSmartPointer<vtkPolyData> surface =
-    vtkARMeshKernels::GatherPolyData(LocalSurface(input), 1e-9, false);
-  vtkSmartPointer<vtkPolyData> boundary;
-  if (hasDomain)
+  st.Surface = vtkARMeshKernels::GatherPolyData(LocalSurface(input), 1e-9, false);
+  if (st.HasDomain)
   {
-    boundary = vtkARMeshKernels::GatherDomainBoundary(domain);
+    st.Boundary = vtkARMeshKernels::GatherDomainBoundary(domain);
   }
   if (!root)
   {
     return 1;
   }
-  auto fail = [&](const std::string& message) {
-    vtkErrorMacro(<< message << " The output is empty.");
-    output->Initialize();
-    return 1;
-  };
 
   vtkARInputChecks::Properties ranges;
   ranges.OneOf("Smoothing", this->Smoothing, { "None", "Windowed Sinc", "Laplacian" })
@@ -328,25 +361,57 @@ int vtkMedialAxisDelaunay::RequestData(
   {
     std::string text = ranges.Message();
     text.pop_back();
-    return fail("MedialAxisDelaunay: " + text);
+    this->Fail(st, "MedialAxisDelaunay: " + text);
+    return 1;
   }
 
-  // ---- The surface: triangles only, finite coordinates.
-  const vtkIdType nCells = surface->GetNumberOfCells();
-  if (nCells == 0 || surface->GetNumberOfPoints() == 0)
+  if (!this->CheckSurface(st))
   {
-    return fail("The input surface is empty (no cells): there is no region to take the medial "
+    return 1;
+  }
+  if (!this->SmoothSurface(st))
+  {
+    return 1;
+  }
+  if (!this->OrientNormals(st))
+  {
+    return 1;
+  }
+  if (!this->ReadDomain(st))
+  {
+    return 1;
+  }
+  if (!this->ComputeSheet(st))
+  {
+    return 1;
+  }
+  this->BuildSheet(st);
+  this->FillSheetHoles(st);
+  this->TrimAtSymmetryPlanes(st);
+  this->WriteOutput(st);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::CheckSurface(SheetState& st)
+{
+  // ---- The surface: triangles only, finite coordinates.
+  st.NumberOfCells = st.Surface->GetNumberOfCells();
+  if (st.NumberOfCells == 0 || st.Surface->GetNumberOfPoints() == 0)
+  {
+    return this->Fail(st, "The input surface is empty (no cells): there is no region to take the medial "
                 "axis of. Check the iso-value of the Contour upstream.");
   }
-  if (surface->GetNumberOfVerts() || surface->GetNumberOfLines() || surface->GetNumberOfStrips())
+  if (st.Surface->GetNumberOfVerts() || st.Surface->GetNumberOfLines() || st.Surface->GetNumberOfStrips())
   {
-    return fail("The input has vertices, lines or triangle strips; MedialAxisDelaunay needs a "
+    return this->Fail(st, "The input has vertices, lines or triangle strips; MedialAxisDelaunay needs a "
                 "surface of triangles (apply Triangulate, or Extract Surface then Triangulate).");
   }
   {
     vtkIdType npts;
     const vtkIdType* ids;
-    vtkCellArray* polys = surface->GetPolys();
+    vtkCellArray* polys = st.Surface->GetPolys();
     vtkIdType cell = 0;
     for (polys->InitTraversal(); polys->GetNextCell(npts, ids); ++cell)
     {
@@ -356,29 +421,34 @@ int vtkMedialAxisDelaunay::RequestData(
         msg << "Cell " << cell << " of the input surface is a " << CellKind(static_cast<int>(npts))
             << " with " << npts
             << " points; MedialAxisDelaunay needs triangles (apply the Triangulate filter first).";
-        return fail(msg.str());
+        return this->Fail(st, msg.str());
       }
     }
   }
-  const vtkIdType nPoints = surface->GetNumberOfPoints();
-  const std::string nonFinite = vtkARInputChecks::NonFinitePoints(surface, "the input surface");
+  st.NumberOfPoints = st.Surface->GetNumberOfPoints();
+  const std::string nonFinite = vtkARInputChecks::NonFinitePoints(st.Surface, "the input surface");
   if (!nonFinite.empty())
   {
-    return fail(nonFinite.substr(0, nonFinite.size() - 1));
+    return this->Fail(st, nonFinite.substr(0, nonFinite.size() - 1));
   }
   this->UpdateProgress(0.05);
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::SmoothSurface(SheetState& st)
+{
   // ---- Smoothing (points keep their ids).
-  vtkSmartPointer<vtkPolyData> work = vtkSmartPointer<vtkPolyData>::New();
-  work->CopyStructure(surface);
-  vtkDataArray* givenNormals = surface->GetPointData()->GetNormals();
-  if (!givenNormals)
+  st.Work = vtkSmartPointer<vtkPolyData>::New();
+  st.Work->CopyStructure(st.Surface);
+  st.GivenNormals = st.Surface->GetPointData()->GetNormals();
+  if (!st.GivenNormals)
   {
-    givenNormals = surface->GetPointData()->GetArray("Normals");
+    st.GivenNormals = st.Surface->GetPointData()->GetArray("Normals");
   }
-  if (givenNormals && givenNormals->GetNumberOfComponents() != 3)
+  if (st.GivenNormals && st.GivenNormals->GetNumberOfComponents() != 3)
   {
-    givenNormals = nullptr;
+    st.GivenNormals = nullptr;
   }
   if (this->Smoothing != NO_SMOOTHING && this->SmoothingIterations > 0)
   {
@@ -403,14 +473,14 @@ int vtkMedialAxisDelaunay::RequestData(
       laplace->FeatureEdgeSmoothingOff();
       smoother = laplace;
     }
-    smoother->SetInputData(work);
+    smoother->SetInputData(st.Work);
     smoother->Update();
-    if (smoother->GetOutput()->GetNumberOfPoints() != nPoints)
+    if (smoother->GetOutput()->GetNumberOfPoints() != st.NumberOfPoints)
     {
-      return fail("Smoothing changed the number of surface points.");
+      return this->Fail(st, "Smoothing changed the number of surface points.");
     }
-    work = vtkSmartPointer<vtkPolyData>::New();
-    work->CopyStructure(smoother->GetOutput());
+    st.Work = vtkSmartPointer<vtkPolyData>::New();
+    st.Work->CopyStructure(smoother->GetOutput());
     // Points on a symmetry plane stay on it (a one-cell-thick 2-D mesh has all
     // its contour points there).
     std::vector<double> planes = this->SymmetryPlanes;
@@ -420,9 +490,9 @@ int vtkMedialAxisDelaunay::RequestData(
       planes.insert(planes.end(), this->SymmetryPlaneOrigin, this->SymmetryPlaneOrigin + 3);
       planes.insert(planes.end(), this->SymmetryPlaneNormal, this->SymmetryPlaneNormal + 3);
     }
-    const double tol = 1e-6 * std::sqrt(surface->GetLength2());
+    const double tol = 1e-6 * std::sqrt(st.Surface->GetLength2());
     vtkNew<vtkPoints> moved;
-    moved->DeepCopy(work->GetPoints());
+    moved->DeepCopy(st.Work->GetPoints());
     for (std::size_t k = 0; k + 5 < planes.size(); k += 6)
     {
       double n[3] = { planes[k + 3], planes[k + 4], planes[k + 5] };
@@ -430,10 +500,10 @@ int vtkMedialAxisDelaunay::RequestData(
       {
         continue;
       }
-      for (vtkIdType i = 0; i < nPoints; ++i)
+      for (vtkIdType i = 0; i < st.NumberOfPoints; ++i)
       {
         double x[3], y[3];
-        surface->GetPoint(i, x);
+        st.Surface->GetPoint(i, x);
         if (std::abs(vtkPlane::Evaluate(n, &planes[k], x)) <= tol)
         {
           moved->GetPoint(i, y);
@@ -442,19 +512,24 @@ int vtkMedialAxisDelaunay::RequestData(
         }
       }
     }
-    work->SetPoints(moved);
+    st.Work->SetPoints(moved);
   }
   this->UpdateProgress(0.1);
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::OrientNormals(SheetState& st)
+{
   // ---- Oriented point normals of the (smoothed) surface: the given ones
   // when the points did not move, else recomputed and oriented like the given ones.
   const bool smoothed = this->Smoothing != NO_SMOOTHING && this->SmoothingIterations > 0;
   vtkNew<vtkPolyDataNormals> normalsFilter;
-  normalsFilter->SetInputData(work);
+  normalsFilter->SetInputData(st.Work);
   normalsFilter->ComputePointNormalsOn();
   normalsFilter->ComputeCellNormalsOff();
   normalsFilter->SplittingOff();
-  if (givenNormals)
+  if (st.GivenNormals)
   {
     normalsFilter->ConsistencyOff();
     normalsFilter->AutoOrientNormalsOff();
@@ -464,7 +539,7 @@ int vtkMedialAxisDelaunay::RequestData(
     normalsFilter->ConsistencyOn();
     normalsFilter->AutoOrientNormalsOn(); // outward for closed surfaces
     vtkNew<vtkFeatureEdges> open;
-    open->SetInputData(work);
+    open->SetInputData(st.Work);
     open->BoundaryEdgesOn();
     open->FeatureEdgesOff();
     open->ManifoldEdgesOff();
@@ -477,27 +552,28 @@ int vtkMedialAxisDelaunay::RequestData(
                          "connected piece). Use Contour with Compute Normals on.");
     }
   }
-  vtkDataArray* computed = givenNormals;
-  if (smoothed || !givenNormals)
+  vtkDataArray* computed = st.GivenNormals;
+  if (smoothed || !st.GivenNormals)
   {
     normalsFilter->Update();
     computed = normalsFilter->GetOutput()->GetPointData()->GetNormals();
-    if (!computed || normalsFilter->GetOutput()->GetNumberOfPoints() != nPoints)
+    if (!computed || normalsFilter->GetOutput()->GetNumberOfPoints() != st.NumberOfPoints)
     {
-      return fail("Could not compute point normals of the input surface.");
+      return this->Fail(st, "Could not compute point normals of the input surface.");
     }
   }
-  std::vector<double> points(3 * nPoints), normals(3 * nPoints);
-  for (vtkIdType i = 0; i < nPoints; ++i)
+  st.Points.assign(3 * st.NumberOfPoints, 0.0);
+  st.Normals.assign(3 * st.NumberOfPoints, 0.0);
+  for (vtkIdType i = 0; i < st.NumberOfPoints; ++i)
   {
-    work->GetPoint(i, &points[3 * i]);
+    st.Work->GetPoint(i, &st.Points[3 * i]);
     double n[3];
     computed->GetTuple(i, n);
-    if (givenNormals)
+    if (st.GivenNormals)
     {
       // The geometry of the smoothed surface, the orientation of the given normals.
       double g[3];
-      givenNormals->GetTuple(i, g);
+      st.GivenNormals->GetTuple(i, g);
       if (n[0] * g[0] + n[1] * g[1] + n[2] * g[2] < 0.0)
       {
         n[0] = -n[0];
@@ -505,106 +581,117 @@ int vtkMedialAxisDelaunay::RequestData(
         n[2] = -n[2];
       }
     }
-    std::copy(n, n + 3, &normals[3 * i]);
+    std::copy(n, n + 3, &st.Normals[3 * i]);
   }
-  std::vector<std::int64_t> triangles;
-  triangles.reserve(3 * nCells);
+  st.Triangles.reserve(3 * st.NumberOfCells);
   {
     vtkIdType npts;
     const vtkIdType* ids;
-    vtkCellArray* polys = work->GetPolys();
+    vtkCellArray* polys = st.Work->GetPolys();
     for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
     {
-      triangles.insert(triangles.end(), { ids[0], ids[1], ids[2] });
+      st.Triangles.insert(st.Triangles.end(), { ids[0], ids[1], ids[2] });
     }
   }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::ReadDomain(SheetState& st)
+{
   // ---- The domain boundary.
-  ar::ClosedSurface closed;
-  if (hasDomain)
+  if (st.HasDomain)
   {
-    if (!boundary || boundary->GetNumberOfCells() == 0)
+    if (!st.Boundary || st.Boundary->GetNumberOfCells() == 0)
     {
-      return fail("The Domain input has no boundary surface (is it an empty or 2-D dataset?).");
+      return this->Fail(st, "The Domain input has no boundary surface (is it an empty or 2-D dataset?).");
     }
-    closed.Points.resize(3 * boundary->GetNumberOfPoints());
-    for (vtkIdType i = 0; i < boundary->GetNumberOfPoints(); ++i)
+    st.Closed.Points.resize(3 * st.Boundary->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < st.Boundary->GetNumberOfPoints(); ++i)
     {
-      boundary->GetPoint(i, &closed.Points[3 * i]);
+      st.Boundary->GetPoint(i, &st.Closed.Points[3 * i]);
     }
     vtkIdType npts;
     const vtkIdType* ids;
-    vtkCellArray* polys = boundary->GetPolys();
+    vtkCellArray* polys = st.Boundary->GetPolys();
     for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
     {
       if (npts == 3)
       {
-        closed.Triangles.insert(closed.Triangles.end(), { ids[0], ids[1], ids[2] });
+        st.Closed.Triangles.insert(st.Closed.Triangles.end(), { ids[0], ids[1], ids[2] });
       }
     }
   }
   this->UpdateProgress(0.15);
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool vtkMedialAxisDelaunay::ComputeSheet(SheetState& st)
+{
   // ---- The medial sheet.
-  ar::MedialAxisOptions options;
-  options.MinimumObjectAngle = this->MinimumObjectAngle;
-  options.MinimumRadiusFactor = this->MinimumRadiusFactor;
-  options.MinimumAreaFraction = this->MinimumAreaFraction;
-  options.MaximumNumberOfSheets = this->MaximumNumberOfSheets;
-  options.RegionAgainstNormals = this->FeatureRegion == ABOVE_ISOVALUE;
-  options.SymmetryPlanes.assign(this->SymmetryPlanes.begin(),
+  st.Options.MinimumObjectAngle = this->MinimumObjectAngle;
+  st.Options.MinimumRadiusFactor = this->MinimumRadiusFactor;
+  st.Options.MinimumAreaFraction = this->MinimumAreaFraction;
+  st.Options.MaximumNumberOfSheets = this->MaximumNumberOfSheets;
+  st.Options.RegionAgainstNormals = this->FeatureRegion == ABOVE_ISOVALUE;
+  st.Options.SymmetryPlanes.assign(this->SymmetryPlanes.begin(),
     this->SymmetryPlanes.begin() + 6 * this->GetNumberOfSymmetryPlanes());
   if (this->UseSymmetryPlaneWidget)
   {
-    options.SymmetryPlanes.insert(options.SymmetryPlanes.end(), this->SymmetryPlaneOrigin,
+    st.Options.SymmetryPlanes.insert(st.Options.SymmetryPlanes.end(), this->SymmetryPlaneOrigin,
       this->SymmetryPlaneOrigin + 3);
-    options.SymmetryPlanes.insert(options.SymmetryPlanes.end(), this->SymmetryPlaneNormal,
+    st.Options.SymmetryPlanes.insert(st.Options.SymmetryPlanes.end(), this->SymmetryPlaneNormal,
       this->SymmetryPlaneNormal + 3);
   }
   if (this->SymmetryPlanesFromDomain)
   {
-    if (!hasDomain)
+    if (!st.HasDomain)
     {
       vtkWarningMacro(<< "SymmetryPlanesFromDomain needs a Domain input; no plane was picked.");
     }
     else
     {
       const std::vector<double> picked = SymmetryPlanesFromBoundary(
-        boundary, points, normals, triangles, std::sqrt(surface->GetLength2()) + std::sqrt(boundary->GetLength2()));
+        st.Boundary, st.Points, st.Normals, st.Triangles, std::sqrt(st.Surface->GetLength2()) + std::sqrt(st.Boundary->GetLength2()));
       for (std::size_t k = 0; k < picked.size(); k += 6)
       {
         bool known = false; // the same plane given by hand
-        for (std::size_t j = 0; j + 5 < options.SymmetryPlanes.size(); j += 6)
+        for (std::size_t j = 0; j + 5 < st.Options.SymmetryPlanes.size(); j += 6)
         {
-          double n[3] = { options.SymmetryPlanes[j + 3], options.SymmetryPlanes[j + 4],
-            options.SymmetryPlanes[j + 5] };
+          double n[3] = { st.Options.SymmetryPlanes[j + 3], st.Options.SymmetryPlanes[j + 4],
+            st.Options.SymmetryPlanes[j + 5] };
           vtkMath::Normalize(n);
-          const double gap = vtkMath::Dot(n, &picked[k]) - vtkMath::Dot(n, &options.SymmetryPlanes[j]);
+          const double gap = vtkMath::Dot(n, &picked[k]) - vtkMath::Dot(n, &st.Options.SymmetryPlanes[j]);
           known = known || (std::abs(std::abs(vtkMath::Dot(n, &picked[k + 3])) - 1.0) < 1e-6 &&
-                             std::abs(gap) <= 1e-6 * std::sqrt(boundary->GetLength2()));
+                             std::abs(gap) <= 1e-6 * std::sqrt(st.Boundary->GetLength2()));
         }
         if (!known)
         {
-          options.SymmetryPlanes.insert(options.SymmetryPlanes.end(), picked.begin() + k, picked.begin() + k + 6);
+          st.Options.SymmetryPlanes.insert(st.Options.SymmetryPlanes.end(), picked.begin() + k, picked.begin() + k + 6);
         }
       }
     }
   }
-  ar::MedialSheet sheet;
   std::string error;
-  const bool ok = ar::ComputeMedialSheet(points.data(), static_cast<std::size_t>(nPoints),
-    normals.data(), triangles.data(), triangles.size() / 3, options,
-    hasDomain ? &closed : nullptr, sheet, error, [this](double f) {
+  const bool ok = ar::ComputeMedialSheet(st.Points.data(), static_cast<std::size_t>(st.NumberOfPoints),
+    st.Normals.data(), st.Triangles.data(), st.Triangles.size() / 3, st.Options,
+    st.HasDomain ? &st.Closed : nullptr, st.Sheet, error, [this](double f) {
       this->UpdateProgress(0.15 + 0.75 * f);
       return this->GetAbortExecute() != 0;
     });
   if (!ok)
   {
-    return fail("Medial axis: " + error);
+    return this->Fail(st, "Medial axis: " + error);
   }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::BuildSheet(SheetState& st)
+{
   // ---- Output.
-  const auto nOut = static_cast<vtkIdType>(sheet.Radius.size());
+  const auto nOut = static_cast<vtkIdType>(st.Sheet.Radius.size());
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataTypeToDouble();
   outPoints->SetNumberOfPoints(nOut);
@@ -613,58 +700,60 @@ int vtkMedialAxisDelaunay::RequestData(
   radius->SetNumberOfTuples(nOut);
   for (vtkIdType i = 0; i < nOut; ++i)
   {
-    outPoints->SetPoint(i, &sheet.Points[3 * i]);
-    radius->SetValue(i, sheet.Radius[i]);
+    outPoints->SetPoint(i, &st.Sheet.Points[3 * i]);
+    radius->SetValue(i, st.Sheet.Radius[i]);
   }
-  const auto nTri = static_cast<vtkIdType>(sheet.SheetId.size());
+  st.NumberOfTriangles = static_cast<vtkIdType>(st.Sheet.SheetId.size());
   vtkNew<vtkCellArray> polys;
-  polys->AllocateExact(nTri, 3 * nTri);
-  vtkNew<vtkIntArray> sheetId;
-  sheetId->SetName("SheetId");
-  sheetId->SetNumberOfTuples(nTri);
-  for (vtkIdType t = 0; t < nTri; ++t)
+  polys->AllocateExact(st.NumberOfTriangles, 3 * st.NumberOfTriangles);
+  st.SheetId->SetName("SheetId");
+  st.SheetId->SetNumberOfTuples(st.NumberOfTriangles);
+  for (vtkIdType t = 0; t < st.NumberOfTriangles; ++t)
   {
-    const vtkIdType ids[3] = { sheet.Triangles[3 * t], sheet.Triangles[3 * t + 1],
-      sheet.Triangles[3 * t + 2] };
+    const vtkIdType ids[3] = { st.Sheet.Triangles[3 * t], st.Sheet.Triangles[3 * t + 1],
+      st.Sheet.Triangles[3 * t + 2] };
     polys->InsertNextCell(3, ids);
-    sheetId->SetValue(t, sheet.SheetId[t]);
+    st.SheetId->SetValue(t, st.Sheet.SheetId[t]);
   }
-  vtkNew<vtkPolyData> result;
-  result->SetPoints(outPoints);
-  result->SetPolys(polys);
-  result->GetPointData()->AddArray(radius);
-  result->GetCellData()->AddArray(sheetId);
+  st.Result->SetPoints(outPoints);
+  st.Result->SetPolys(polys);
+  st.Result->GetPointData()->AddArray(radius);
+  st.Result->GetCellData()->AddArray(st.SheetId);
+}
 
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::FillSheetHoles(SheetState& st)
+{
   // ---- Symmetry planes: the sheet of the mirrored union crosses each plane
   // orthogonally; keep the original side (cut SymmetryTrimDistance short of
   // the plane) and extend the open edges near the plane orthogonally onto
   // it, which also closes gaps that the pruning left next to the plane.
-  std::vector<double> sheetAreas = sheet.SheetAreas;
+  st.SheetAreas = st.Sheet.SheetAreas;
   vtkNew<vtkIntArray> extended;
   extended->SetName("Extended");
-  extended->SetNumberOfTuples(nTri);
+  extended->SetNumberOfTuples(st.NumberOfTriangles);
   extended->FillValue(0);
-  result->GetCellData()->AddArray(extended);
-  double medianEdge = 0.0;
+  st.Result->GetCellData()->AddArray(extended);
+  st.MedianEdge = 0.0;
   {
     std::vector<double> lengths;
-    lengths.reserve(triangles.size());
-    for (std::size_t t = 0; t < triangles.size(); t += 3)
+    lengths.reserve(st.Triangles.size());
+    for (std::size_t t = 0; t < st.Triangles.size(); t += 3)
     {
       for (int k = 0; k < 3; ++k)
       {
         lengths.push_back(std::sqrt(vtkMath::Distance2BetweenPoints(
-          &points[3 * triangles[t + k]], &points[3 * triangles[t + (k + 1) % 3]])));
+          &st.Points[3 * st.Triangles[t + k]], &st.Points[3 * st.Triangles[t + (k + 1) % 3]])));
       }
     }
     std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
-    medianEdge = lengths[lengths.size() / 2];
+    st.MedianEdge = lengths[lengths.size() / 2];
   }
-  if (this->FillHoles && this->MaximumHoleSize > 0.0 && nTri > 0)
+  if (this->FillHoles && this->MaximumHoleSize > 0.0 && st.NumberOfTriangles > 0)
   {
     vtkNew<vtkFillHolesFilter> fill;
-    fill->SetInputData(result);
-    fill->SetHoleSize(this->MaximumHoleSize * medianEdge);
+    fill->SetInputData(st.Result);
+    fill->SetHoleSize(this->MaximumHoleSize * st.MedianEdge);
     // The patches are polygons, one per hole: triangulate them (the input's
     // triangles come first, in order).
     vtkNew<vtkTriangleFilter> triangulate;
@@ -674,7 +763,7 @@ int vtkMedialAxisDelaunay::RequestData(
     triangulate->Update();
     vtkPolyData* filled = triangulate->GetOutput();
     const vtkIdType nNew = filled->GetNumberOfCells();
-    if (nNew > nTri)
+    if (nNew > st.NumberOfTriangles)
     {
       // The patches take the SheetId of a triangle at their first point.
       vtkNew<vtkPolyData> links;
@@ -690,9 +779,9 @@ int vtkMedialAxisDelaunay::RequestData(
       for (vtkIdType t = 0; t < nNew; ++t)
       {
         int id = 0;
-        if (t < nTri)
+        if (t < st.NumberOfTriangles)
         {
-          id = sheetId->GetValue(t);
+          id = st.SheetId->GetValue(t);
         }
         else
         {
@@ -704,33 +793,38 @@ int vtkMedialAxisDelaunay::RequestData(
           links->GetPointCells(pts[0], ncells, cellIds);
           for (vtkIdType k = 0; k < ncells; ++k)
           {
-            if (cellIds[k] < nTri)
+            if (cellIds[k] < st.NumberOfTriangles)
             {
-              id = sheetId->GetValue(cellIds[k]);
+              id = st.SheetId->GetValue(cellIds[k]);
               break;
             }
           }
         }
         ids->SetValue(t, id);
       }
-      result->SetPolys(filled->GetPolys());
-      result->GetCellData()->Initialize();
-      result->GetCellData()->AddArray(ids);
-      result->GetCellData()->AddArray(ext);
+      st.Result->SetPolys(filled->GetPolys());
+      st.Result->GetCellData()->Initialize();
+      st.Result->GetCellData()->AddArray(ids);
+      st.Result->GetCellData()->AddArray(ext);
     }
   }
-  if (!options.SymmetryPlanes.empty() && nTri > 0)
+}
+
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::TrimAtSymmetryPlanes(SheetState& st)
+{
+  if (!st.Options.SymmetryPlanes.empty() && st.NumberOfTriangles > 0)
   {
-    vtkSmartPointer<vtkPolyData> current = result.Get();
-    const std::size_t nPlanes = options.SymmetryPlanes.size() / 6;
+    vtkSmartPointer<vtkPolyData> current = st.Result.Get();
+    const std::size_t nPlanes = st.Options.SymmetryPlanes.size() / 6;
     for (std::size_t k = 0; k < nPlanes; ++k)
     {
-      const double* v = options.SymmetryPlanes.data() + 6 * k;
+      const double* v = st.Options.SymmetryPlanes.data() + 6 * k;
       double normal[3] = { v[3], v[4], v[5] };
       double side = 0.0; // the normal points to the side that holds the surface
-      for (vtkIdType i = 0; i < nPoints; ++i)
+      for (vtkIdType i = 0; i < st.NumberOfPoints; ++i)
       {
-        const double* x = &points[3 * i];
+        const double* x = &st.Points[3 * i];
         const double d = (x[0] - v[0]) * normal[0] + (x[1] - v[1]) * normal[1] + (x[2] - v[2]) * normal[2];
         side += d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
       }
@@ -764,7 +858,7 @@ int vtkMedialAxisDelaunay::RequestData(
       extend->SetPlaneOrigin(v[0], v[1], v[2]);
       extend->SetPlaneNormal(normal);
       extend->SetTrimDistance(0.0);
-      extend->SetMaximumGap(this->SymmetryTrimDistance + 2.0 * medianEdge);
+      extend->SetMaximumGap(this->SymmetryTrimDistance + 2.0 * st.MedianEdge);
       extend->Update();
       if (extend->GetOutput()->GetNumberOfCells() > 0)
       {
@@ -775,7 +869,7 @@ int vtkMedialAxisDelaunay::RequestData(
     }
     // Sheet areas of what is left.
     vtkDataArray* ids = current->GetCellData()->GetArray("SheetId");
-    std::fill(sheetAreas.begin(), sheetAreas.end(), 0.0);
+    std::fill(st.SheetAreas.begin(), st.SheetAreas.end(), 0.0);
     for (vtkIdType t = 0; ids && t < current->GetNumberOfCells(); ++t)
     {
       const auto id = static_cast<std::size_t>(ids->GetComponent(t, 0));
@@ -784,47 +878,50 @@ int vtkMedialAxisDelaunay::RequestData(
       cell->GetPoints()->GetPoint(0, a);
       cell->GetPoints()->GetPoint(1, b);
       cell->GetPoints()->GetPoint(2, c);
-      if (id < sheetAreas.size())
+      if (id < st.SheetAreas.size())
       {
-        sheetAreas[id] += vtkTriangle::TriangleArea(a, b, c);
+        st.SheetAreas[id] += vtkTriangle::TriangleArea(a, b, c);
       }
     }
-    result->ShallowCopy(current);
+    st.Result->ShallowCopy(current);
   }
-  output->ShallowCopy(result);
+}
+
+//------------------------------------------------------------------------------
+void vtkMedialAxisDelaunay::WriteOutput(SheetState& st)
+{
+  st.Output->ShallowCopy(st.Result);
 
   vtkNew<vtkDoubleArray> areas;
   areas->SetName("SheetAreas");
-  for (double a : sheetAreas)
+  for (double a : st.SheetAreas)
   {
     areas->InsertNextValue(a);
   }
-  output->GetFieldData()->AddArray(areas);
+  st.Output->GetFieldData()->AddArray(areas);
   auto count = [&](const char* name, std::size_t value) {
     const double v = static_cast<double>(value);
-    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &v, 1));
+    st.Output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &v, 1));
   };
-  count("DelaunayTetrahedra", sheet.NumberOfTetrahedra);
-  count("InteriorTetrahedra", sheet.NumberOfInteriorTetrahedra);
-  count("VoronoiFacets", sheet.NumberOfFacets);
-  count("MirrorCopies", sheet.NumberOfMirrorCopies);
+  count("DelaunayTetrahedra", st.Sheet.NumberOfTetrahedra);
+  count("InteriorTetrahedra", st.Sheet.NumberOfInteriorTetrahedra);
+  count("VoronoiFacets", st.Sheet.NumberOfFacets);
+  count("MirrorCopies", st.Sheet.NumberOfMirrorCopies);
   vtkNew<vtkDoubleArray> used;
   used->SetName("SymmetryPlanesUsed");
   used->SetNumberOfComponents(6);
-  for (std::size_t k = 0; k + 5 < options.SymmetryPlanes.size(); k += 6)
+  for (std::size_t k = 0; k + 5 < st.Options.SymmetryPlanes.size(); k += 6)
   {
-    used->InsertNextTuple(&options.SymmetryPlanes[k]);
+    used->InsertNextTuple(&st.Options.SymmetryPlanes[k]);
   }
-  output->GetFieldData()->AddArray(used);
-  if (output->GetNumberOfCells() == 0)
+  st.Output->GetFieldData()->AddArray(used);
+  if (st.Output->GetNumberOfCells() == 0)
   {
-    vtkWarningMacro(<< "No medial sheet survived the pruning (" << sheet.NumberOfInteriorTetrahedra
-                    << " of " << sheet.NumberOfTetrahedra
+    vtkWarningMacro(<< "No medial sheet survived the pruning (" << st.Sheet.NumberOfInteriorTetrahedra
+                    << " of " << st.Sheet.NumberOfTetrahedra
                     << " Delaunay tetrahedra are interior). Check FeatureRegion (the side of "
                        "the normals), or lower MinimumObjectAngle / MinimumRadiusFactor.");
   }
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

@@ -50,6 +50,7 @@
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <string> // for Fail
 #include <vector> // for the symmetry planes
 
 class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkMedialAxisDelaunay : public vtkPolyDataAlgorithm
@@ -184,6 +185,23 @@ protected:
 private:
   vtkMedialAxisDelaunay(const vtkMedialAxisDelaunay&) = delete;
   void operator=(const vtkMedialAxisDelaunay&) = delete;
+
+  ///@{
+  /// The passes of RequestData, in order, over the state of one execution
+  /// (SheetState, in the .cxx). A pass that returns false has reported the
+  /// error (Fail: an error, and an empty output).
+  struct SheetState;
+  bool Fail(SheetState& st, const std::string& message);
+  bool CheckSurface(SheetState& st);
+  bool SmoothSurface(SheetState& st);
+  bool OrientNormals(SheetState& st);
+  bool ReadDomain(SheetState& st);
+  bool ComputeSheet(SheetState& st);
+  void BuildSheet(SheetState& st);
+  void FillSheetHoles(SheetState& st);
+  void TrimAtSymmetryPlanes(SheetState& st);
+  void WriteOutput(SheetState& st);
+  ///@}
 
   int Smoothing = NO_SMOOTHING;
   int SmoothingIterations = 20;

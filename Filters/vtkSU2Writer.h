@@ -34,50 +34,24 @@
 #define vtkSU2Writer_h
 
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
-#include "vtkWriter.h"
+#include "vtkARSolverMeshWriter.h"
 
-class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkSU2Writer : public vtkWriter
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkSU2Writer : public vtkARSolverMeshWriter
 {
 public:
   static vtkSU2Writer* New();
-  vtkTypeMacro(vtkSU2Writer, vtkWriter);
+  vtkTypeMacro(vtkSU2Writer, vtkARSolverMeshWriter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// The .su2 file to write.
-  vtkSetStringMacro(FileName);
-  vtkGetStringMacro(FileName);
-  ///@}
-
-  ///@{
-  /// Name of the marker that takes the boundary faces no patch covers (all
-  /// of them for a plain volume mesh). Default "boundary".
-  vtkSetStringMacro(DefaultPatchName);
-  vtkGetStringMacro(DefaultPatchName);
-  ///@}
-
-  ///@{
-  /// Multiblock input: a patch point matches the nearest volume point within
-  /// this fraction of the volume's bounding-box diagonal. Default 1e-6.
-  /// In [0, 1]: refused otherwise (nothing written), not clamped.
-  vtkSetMacro(PointMatchingTolerance, double);
-  vtkGetMacro(PointMatchingTolerance, double);
-  ///@}
 
 protected:
   vtkSU2Writer();
   ~vtkSU2Writer() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  void WriteData() override;
+  bool WriteMesh(const vtkARSolverMesh& mesh, Buffer& out, std::string& error) override;
 
 private:
   vtkSU2Writer(const vtkSU2Writer&) = delete;
   void operator=(const vtkSU2Writer&) = delete;
-
-  char* FileName = nullptr;
-  char* DefaultPatchName = nullptr;
-  double PointMatchingTolerance = 1e-6;
 };
 
 #endif

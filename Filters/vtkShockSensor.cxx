@@ -2,6 +2,7 @@
 #include "vtkShockSensor.h"
 
 #include "vtkARInputChecks.h"
+#include "vtkARVolumeFilterExecution.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellData.h"
 #include "vtkDataObject.h"
@@ -47,6 +48,13 @@ const char* ArrayName(vtkAlgorithm* self, int idx)
 const char* const RoleNames[6] = { "Velocity", "Pressure", "Density", "Temperature", "Momentum",
   "TotalEnergy" };
 const int RoleComponents[6] = { 3, 1, 1, 1, 3, 1 };
+
+/// Columns of the point state table: a 3-vector then two scalars.
+constexpr int NC = 5;
+
+/// Relative range of p, (max - min) / mean over a cell's points, below
+/// which p is uniform (a free stream): grad p there is round-off.
+constexpr double FlatPressure = 1e-5;
 
 std::string Lower(const char* s)
 {
@@ -149,6 +157,7 @@ vtkDataArray* vtkShockSensor::FindKnownArray(int idx, int components, vtkDataSet
 
 //------------------------------------------------------------------------------
 vtkShockSensor::vtkShockSensor()
+  : vtkARVolumeFilter("the shock sensor")
 {
   // Every array found by its usual names unless the user names it.
   for (int i = 0; i < 6; ++i)
@@ -158,41 +167,38 @@ vtkShockSensor::vtkShockSensor()
 }
 
 //------------------------------------------------------------------------------
-int vtkShockSensor::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, 1);
-  return 1;
-}
-
 //------------------------------------------------------------------------------
-int vtkShockSensor::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+/// The state of one execution, shared by the passes of Execute.
+struct vtkShockSensor::FlowState
 {
-  // Threads for this filter's own work only: the process's SMP backend is
-  // left as the user has it.
-  int result = 1;
-  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
-  return result;
-}
+  vtkDataArray* Found[6] = { nullptr, nullptr, nullptr, nullptr, nullptr, nullptr };
+  int FoundAssociation[6] = { -1, -1, -1, -1, -1, -1 };
+  bool FoundAutomatically[6] = { false, false, false, false, false, false };
+  int Set = AUTOMATIC;
+  bool SetFound = true; ///< false: the set's problem is reported already, its arrays are not read
+  Slot Slots[3];
+  std::vector<double> State;     ///< NC columns at the points: V (or rho V), then two scalars
+  std::vector<double> CellState; ///< the cell arrays' columns, before averaging to the points
+  std::vector<int> CellColumns;
+  double R = 0.0;
+  std::vector<double> GradP;
+  std::vector<double> RawMach;   ///< Mn before masking
+  std::vector<double> PointInfo; ///< |grad p|, V.grad p, Mach
+  double GradMax = 0.0;
+  vtkNew<vtkDoubleArray> NormalMach;
+  std::vector<double> LocalPeak;
+  std::vector<double> CellRange;
+  vtkNew<vtkUnsignedCharArray> ShockCells;
+};
 
-//------------------------------------------------------------------------------
-int vtkShockSensor::ExecuteData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkShockSensor::Execute(Execution& run)
 {
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
-  output->ShallowCopy(input);
-
-  std::ostringstream problem;
-  vtkARMeshKernels::MeshView mesh;
-  std::string meshError;
-  if (!mesh.Build(input, meshError))
-  {
-    problem << meshError << ". ";
-  }
-  const vtkIdType npts = mesh.NumberOfPoints;
-  const vtkIdType ncells = mesh.NumberOfCells;
+  // The passes below share the state of this execution (FlowState); every
+  // rank reaches the same collective calls, in order.
+  FlowState st;
+  vtkUnstructuredGrid* output = run.Output;
+  std::ostringstream& problem = run.Problem;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
 
   problem << vtkARInputChecks::Properties()
                .InRange("PressureGradientThreshold", this->PressureGradientThreshold, 0.0, 1.0,
@@ -209,30 +215,81 @@ int vtkShockSensor::ExecuteData(
             << "; it must be positive (J/(kg K), 287.05 for air), or 0 to take it from the data. ";
   }
 
+  this->ResolveFlowState(run, st);
+  this->ReadFlowState(run, st);
+  this->ResolveGasConstant(run, st);
+  if (!this->Proceed(run))
+  {
+    return 1;
+  }
+
+  if (!st.CellColumns.empty() &&
+    !vtkARMeshKernels::CellColumnsToPoints(
+      mesh, st.CellState.data(), NC, st.CellColumns, st.State.data(), NC, st.CellColumns, this))
+  {
+    return 1;
+  }
+
+  if (!this->ToPrimitiveState(run, st))
+  {
+    return 1;
+  }
+  if (!this->PressureGradient(run, st))
+  {
+    return 1;
+  }
+  this->PointQuantities(run, st);
+  this->LocalPeaks(run, st);
+  this->MarkShockCells(run, st);
+
+  output->GetPointData()->AddArray(st.NormalMach);
+  output->GetCellData()->AddArray(st.ShockCells);
+  // What was read: the arrays of the set, the set, and R with temperature.
+  vtkNew<vtkStringArray> used;
+  used->SetName("FlowStateArrays");
+  for (const Slot& s : st.Slots)
+  {
+    used->InsertNextValue(st.Found[s.Index]->GetName());
+  }
+  output->GetFieldData()->AddArray(used);
+  double setUsed = st.Set;
+  output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("VariableSetUsed", &setUsed, 1));
+  if (st.Set == VELOCITY_PRESSURE_TEMPERATURE)
+  {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("GasConstantUsed", &st.R, 1));
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::ResolveFlowState(Execution& run, FlowState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  std::ostringstream& problem = run.Problem;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+
   // ---- The arrays: named, or found by their usual names; the set.
-  vtkDataArray* found[6];
-  int foundAssociation[6];
-  bool foundAutomatically[6];
   for (int i = 0; i < 6; ++i)
   {
-    found[i] = this->ResolveArray(i, RoleComponents[i], input, foundAssociation[i], foundAutomatically[i]);
+    st.Found[i] = this->ResolveArray(i, RoleComponents[i], input, st.FoundAssociation[i], st.FoundAutomatically[i]);
   }
-  int set = this->VariableSet;
-  bool setFound = true; // false: the set's problem is reported already, its arrays are not read
-  if (set < VELOCITY_PRESSURE_DENSITY || set > AUTOMATIC)
+  st.Set = this->VariableSet;
+  st.SetFound = true; // false: the set's problem is reported already, its arrays are not read
+  if (st.Set < VELOCITY_PRESSURE_DENSITY || st.Set > AUTOMATIC)
   {
-    problem << "VariableSet is " << set
+    problem << "VariableSet is " << st.Set
             << "; it must be 0 (velocity, pressure, density), 1 (velocity, pressure, temperature), 2 "
                "(conserved) or 3 (automatic). ";
-    set = VELOCITY_PRESSURE_DENSITY;
-    setFound = false;
+    st.Set = VELOCITY_PRESSURE_DENSITY;
+    st.SetFound = false;
   }
   else if (ncells == 0)
   {
-    setFound = false; // the mesh's problem is reported; no array is read
-    set = VELOCITY_PRESSURE_DENSITY;
+    st.SetFound = false; // the mesh's problem is reported; no array is read
+    st.Set = VELOCITY_PRESSURE_DENSITY;
   }
-  else if (set == AUTOMATIC)
+  else if (st.Set == AUTOMATIC)
   {
     // The first complete set that holds every array the user named (a
     // named array is never ignored in favour of another set).
@@ -241,36 +298,36 @@ int vtkShockSensor::ExecuteData(
     bool namedMissing = false;
     for (int i = 0; i < 6; ++i)
     {
-      if (!foundAutomatically[i] && !found[i])
+      if (!st.FoundAutomatically[i] && !st.Found[i])
       {
         problem << "The " << RoleNames[i] << " array '" << ArrayName(this, i)
                 << "' is not a point or cell array of the input. ";
         namedMissing = true;
       }
     }
-    for (int candidate = 0; candidate < 3 && set == AUTOMATIC; ++candidate)
+    for (int candidate = 0; candidate < 3 && st.Set == AUTOMATIC; ++candidate)
     {
       bool eligible = true;
       for (int k = 0; k < 3; ++k)
       {
-        eligible = eligible && found[members[candidate][k]];
+        eligible = eligible && st.Found[members[candidate][k]];
       }
       for (int i = 0; i < 6 && eligible; ++i)
       {
         const int* m = members[candidate];
-        eligible = foundAutomatically[i] || i == m[0] || i == m[1] || i == m[2];
+        eligible = st.FoundAutomatically[i] || i == m[0] || i == m[1] || i == m[2];
       }
       if (eligible)
       {
-        set = candidate;
+        st.Set = candidate;
       }
     }
-    if (set == AUTOMATIC && namedMissing)
+    if (st.Set == AUTOMATIC && namedMissing)
     {
-      set = VELOCITY_PRESSURE_DENSITY;
-      setFound = false;
+      st.Set = VELOCITY_PRESSURE_DENSITY;
+      st.SetFound = false;
     }
-    else if (set == AUTOMATIC)
+    else if (st.Set == AUTOMATIC)
     {
       problem << "No complete flow state among the input's arrays. The sensor needs a velocity ("
               << RoleNames[VELOCITY] << ": " << NameList(VELOCITY) << ") and a pressure (" << NameList(PRESSURE)
@@ -279,48 +336,52 @@ int vtkShockSensor::ExecuteData(
               << ") and total energy (" << NameList(TOTAL_ENERGY) << "). Found:";
       for (int i = 0; i < 6; ++i)
       {
-        problem << " " << RoleNames[i] << " " << (found[i] ? found[i]->GetName() : "-");
+        problem << " " << RoleNames[i] << " " << (st.Found[i] ? st.Found[i]->GetName() : "-");
       }
       problem << ". Pick the arrays and the VariableSet. ";
-      set = VELOCITY_PRESSURE_DENSITY;
-      setFound = false;
+      st.Set = VELOCITY_PRESSURE_DENSITY;
+      st.SetFound = false;
     }
   }
 
-  Slot slots[3];
-  switch (set)
+  switch (st.Set)
   {
     case VELOCITY_PRESSURE_TEMPERATURE:
-      slots[0] = { VELOCITY, "Velocity", 3, 0, false };
-      slots[1] = { PRESSURE, "Pressure", 1, 3, true };
-      slots[2] = { TEMPERATURE, "Temperature", 1, 4, true };
+      st.Slots[0] = { VELOCITY, "Velocity", 3, 0, false };
+      st.Slots[1] = { PRESSURE, "Pressure", 1, 3, true };
+      st.Slots[2] = { TEMPERATURE, "Temperature", 1, 4, true };
       break;
     case CONSERVED:
-      slots[0] = { MOMENTUM, "Momentum", 3, 0, false };
-      slots[1] = { DENSITY, "Density", 1, 3, true };
-      slots[2] = { TOTAL_ENERGY, "TotalEnergy", 1, 4, false };
+      st.Slots[0] = { MOMENTUM, "Momentum", 3, 0, false };
+      st.Slots[1] = { DENSITY, "Density", 1, 3, true };
+      st.Slots[2] = { TOTAL_ENERGY, "TotalEnergy", 1, 4, false };
       break;
     default:
-      slots[0] = { VELOCITY, "Velocity", 3, 0, false };
-      slots[1] = { PRESSURE, "Pressure", 1, 3, true };
-      slots[2] = { DENSITY, "Density", 1, 4, true };
+      st.Slots[0] = { VELOCITY, "Velocity", 3, 0, false };
+      st.Slots[1] = { PRESSURE, "Pressure", 1, 3, true };
+      st.Slots[2] = { DENSITY, "Density", 1, 4, true };
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::ReadFlowState(Execution& run, FlowState& st)
+{
+  std::ostringstream& problem = run.Problem;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
 
   // The raw state, 5 columns at the points; cell arrays go through a cell
   // table and are averaged to the points.
-  constexpr int NC = 5;
-  std::vector<double> state(static_cast<size_t>(npts) * NC, 0.0);
-  std::vector<double> cellState;
-  std::vector<int> cellColumns;
-  if (ncells > 0 && setFound)
+  st.State.assign(static_cast<size_t>(npts) * NC, 0.0);
+  if (ncells > 0 && st.SetFound)
   {
-    for (const Slot& s : slots)
+    for (const Slot& s : st.Slots)
     {
-      const int association = foundAssociation[s.Index];
-      vtkDataArray* array = found[s.Index];
+      const int association = st.FoundAssociation[s.Index];
+      vtkDataArray* array = st.Found[s.Index];
       if (!array)
       {
-        if (foundAutomatically[s.Index])
+        if (st.FoundAutomatically[s.Index])
         {
           problem << "No " << s.Role << " array: none of " << NameList(s.Index) << " is a "
                   << s.Components << "-component point or cell array of the input; pick it. ";
@@ -340,16 +401,16 @@ int vtkShockSensor::ExecuteData(
         continue;
       }
       const bool onPoints = association == vtkDataObject::FIELD_ASSOCIATION_POINTS;
-      double* table = state.data();
+      double* table = st.State.data();
       int column = s.Column;
       int stride = NC;
       if (!onPoints)
       {
-        cellState.resize(static_cast<size_t>(ncells) * NC, 0.0);
-        table = cellState.data();
+        st.CellState.resize(static_cast<size_t>(ncells) * NC, 0.0);
+        table = st.CellState.data();
         for (int k = 0; k < s.Components; ++k)
         {
-          cellColumns.push_back(s.Column + k);
+          st.CellColumns.push_back(s.Column + k);
         }
       }
       const vtkIdType bad = vtkARMeshKernels::PackComponents(array, table, stride, column);
@@ -376,19 +437,26 @@ int vtkShockSensor::ExecuteData(
       }
     }
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::ResolveGasConstant(Execution& run, FlowState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  std::ostringstream& problem = run.Problem;
 
   // ---- The gas constant with temperature: from the data's p / (rho T)
   // where a density is present too (the median: point data averaged across
   // a shock scatter by a few per cent), else the field data's GasConstant.
-  double R = this->GasConstant;
-  if (set == VELOCITY_PRESSURE_TEMPERATURE)
+  st.R = this->GasConstant;
+  if (st.Set == VELOCITY_PRESSURE_TEMPERATURE)
   {
     double fromData = 0.0;
-    vtkDataArray* p = found[PRESSURE];
-    vtkDataArray* rho = found[DENSITY];
-    vtkDataArray* T = found[TEMPERATURE];
-    if (p && rho && T && foundAssociation[PRESSURE] == foundAssociation[DENSITY] &&
-      foundAssociation[PRESSURE] == foundAssociation[TEMPERATURE] &&
+    vtkDataArray* p = st.Found[PRESSURE];
+    vtkDataArray* rho = st.Found[DENSITY];
+    vtkDataArray* T = st.Found[TEMPERATURE];
+    if (p && rho && T && st.FoundAssociation[PRESSURE] == st.FoundAssociation[DENSITY] &&
+      st.FoundAssociation[PRESSURE] == st.FoundAssociation[TEMPERATURE] &&
       p->GetNumberOfTuples() == rho->GetNumberOfTuples() && p->GetNumberOfTuples() == T->GetNumberOfTuples())
     {
       std::vector<double> ratio;
@@ -414,23 +482,23 @@ int vtkShockSensor::ExecuteData(
     const double fromField = field && field->GetNumberOfTuples() > 0 ? field->GetComponent(0, 0) : 0.0;
     if (fromData > 0.0)
     {
-      if (R <= 0.0)
+      if (st.R <= 0.0)
       {
-        R = fromData;
+        st.R = fromData;
       }
-      else if (std::abs(R / fromData - 1.0) > 0.02)
+      else if (std::abs(st.R / fromData - 1.0) > 0.02)
       {
-        problem << "GasConstant is " << R << ", but the data's p / (rho T) is " << fromData
-                << " (the median over the " << (foundAssociation[PRESSURE] == vtkDataObject::FIELD_ASSOCIATION_POINTS ? "points" : "cells")
+        problem << "GasConstant is " << st.R << ", but the data's p / (rho T) is " << fromData
+                << " (the median over the " << (st.FoundAssociation[PRESSURE] == vtkDataObject::FIELD_ASSOCIATION_POINTS ? "points" : "cells")
                 << "): the arrays are not in the units of that R (non-dimensional data?). Set GasConstant to 0 "
                    "to take it from the data. ";
       }
     }
-    else if (R <= 0.0)
+    else if (st.R <= 0.0)
     {
       if (fromField > 0.0 && std::isfinite(fromField))
       {
-        R = fromField;
+        st.R = fromField;
       }
       else
       {
@@ -440,36 +508,26 @@ int vtkShockSensor::ExecuteData(
       }
     }
   }
-  if (!vtkARMeshKernels::AgreeToProceed(
-        this, problem.str(), mesh, vtkARMeshKernels::Census(mesh), "the shock sensor"))
-  {
-    return 1;
-  }
-  this->UpdateProgress(0.1);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
-  {
-    return 1; // cancelled (collective work under MPI runs to its end)
-  }
+}
 
-  if (!cellColumns.empty() &&
-    !vtkARMeshKernels::CellColumnsToPoints(
-      mesh, cellState.data(), NC, cellColumns, state.data(), NC, cellColumns, this))
-  {
-    return 1;
-  }
+//------------------------------------------------------------------------------
+bool vtkShockSensor::ToPrimitiveState(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const double gamma = this->Gamma;
 
   // ---- Primitive state at the points: V (3), p, rho.
-  const double gamma = this->Gamma;
   std::atomic<vtkIdType> badPressure(-1);
   vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType p = b; p < e; ++p)
     {
-      double* s = &state[static_cast<size_t>(p) * NC];
-      if (set == VELOCITY_PRESSURE_TEMPERATURE)
+      double* s = &st.State[static_cast<size_t>(p) * NC];
+      if (st.Set == VELOCITY_PRESSURE_TEMPERATURE)
       {
-        s[4] = s[3] / (R * s[4]); // rho = p / (R T)
+        s[4] = s[3] / (st.R * s[4]); // rho = p / (R T)
       }
-      else if (set == CONSERVED)
+      else if (st.Set == CONSERVED)
       {
         const double rho = s[3], rhoE = s[4];
         const double m2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
@@ -499,16 +557,22 @@ int vtkShockSensor::ExecuteData(
   }
   if (derivedBad > 0.0)
   {
-    return 1;
+    return false;
   }
   this->UpdateProgress(0.3);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  if (this->Cancelled())
   {
     return 1; // cancelled (collective work under MPI runs to its end)
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkShockSensor::PressureGradient(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
 
   // ---- grad p at the points: weighted average of the cell gradients.
-  std::vector<double> gradP;
   const bool ok = vtkARMeshKernels::CellsToPoints(
     mesh, 3,
     [&](vtkIdType c, double* g, double& weight) {
@@ -522,42 +586,51 @@ int vtkShockSensor::ExecuteData(
       g[0] = g[1] = g[2] = 0.0;
       for (int a = 0; a < n; ++a)
       {
-        const double pa = state[static_cast<size_t>(ids[a]) * NC + 3];
+        const double pa = st.State[static_cast<size_t>(ids[a]) * NC + 3];
         g[0] += W[a][0] * pa;
         g[1] += W[a][1] * pa;
         g[2] += W[a][2] * pa;
       }
       return true;
     },
-    gradP, this);
+    st.GradP, this);
   double abortFlag = ok ? 0.0 : 1.0;
   vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
   if (abortFlag > 0.0)
   {
-    return 1;
+    return false;
   }
   this->UpdateProgress(0.7);
-  if (vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort())
+  if (this->Cancelled())
   {
     return 1; // cancelled (collective work under MPI runs to its end)
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::PointQuantities(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const double gamma = this->Gamma;
 
   // ---- Point quantities: Mn, |grad p|, V.grad p, local Mach.
-  std::vector<double> rawMach(npts);
-  double* mn = rawMach.data();
-  std::vector<double> pointInfo(3 * static_cast<size_t>(npts)); // |grad p|, V.grad p, Mach
+  st.RawMach.assign(npts, 0.0);
+  double* mn = st.RawMach.data();
+  st.PointInfo.assign(3 * static_cast<size_t>(npts), 0.0); // |grad p|, V.grad p, Mach
   vtkSMPThreadLocal<double> localMax(0.0);
   vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
     double& gmax = localMax.Local();
     for (vtkIdType p = b; p < e; ++p)
     {
-      const double* s = &state[static_cast<size_t>(p) * NC];
-      const double* g = &gradP[3 * static_cast<size_t>(p)];
+      const double* s = &st.State[static_cast<size_t>(p) * NC];
+      const double* g = &st.GradP[3 * static_cast<size_t>(p)];
       const double a = std::sqrt(gamma * s[3] / s[4]);
       const double gmag = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
       const double vg = s[0] * g[0] + s[1] * g[1] + s[2] * g[2];
       mn[p] = gmag > 0.0 ? vg / (a * gmag) : 0.0;
-      double* info = &pointInfo[3 * static_cast<size_t>(p)];
+      double* info = &st.PointInfo[3 * static_cast<size_t>(p)];
       info[0] = gmag;
       info[1] = vg;
       info[2] = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / a;
@@ -567,29 +640,36 @@ int vtkShockSensor::ExecuteData(
       }
     }
   });
-  double gradMax = 0.0;
+  st.GradMax = 0.0;
   for (double m : localMax)
   {
-    gradMax = std::max(gradMax, m);
+    st.GradMax = std::max(st.GradMax, m);
   }
-  vtkARMeshKernels::AllReduceMax(&gradMax, 1);
+  vtkARMeshKernels::AllReduceMax(&st.GradMax, 1);
 
   // The output Mn is 0 where |grad p| is below the threshold: there the
   // direction of grad p, and Mn with it, is noise (round-off in a uniform
   // stream), which would only clutter contours and clusters of NormalMach.
-  vtkNew<vtkDoubleArray> normalMach;
-  normalMach->SetName("NormalMach");
-  normalMach->SetNumberOfTuples(npts);
+  st.NormalMach->SetName("NormalMach");
+  st.NormalMach->SetNumberOfTuples(npts);
   {
-    double* outMn = normalMach->GetPointer(0);
-    const double limit = this->PressureGradientThreshold * gradMax;
+    double* outMn = st.NormalMach->GetPointer(0);
+    const double limit = this->PressureGradientThreshold * st.GradMax;
     vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
       for (vtkIdType p = b; p < e; ++p)
       {
-        outMn[p] = pointInfo[3 * static_cast<size_t>(p)] >= limit ? mn[p] : 0.0;
+        outMn[p] = st.PointInfo[3 * static_cast<size_t>(p)] >= limit ? mn[p] : 0.0;
       }
     });
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::LocalPeaks(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
 
   // ---- Local peak of |grad p|: at each point, the largest |grad p| over
   // the points of the cells around it (its two-ring); and whether p varies
@@ -598,10 +678,9 @@ int vtkShockSensor::ExecuteData(
   // FlatPressure (a free stream) grad p is round-off, its direction and Mn
   // are noise at any threshold relative to the (round-off) maximum: those
   // points get Mn = 0 and their cells are never shock cells.
-  constexpr double FlatPressure = 1e-5;
-  std::vector<double> localPeak(npts, 0.0);
+  st.LocalPeak.assign(npts, 0.0);
   std::vector<double> localRange(npts, 0.0);
-  std::vector<double> cellRange(static_cast<size_t>(ncells), 0.0);
+  st.CellRange.assign(static_cast<size_t>(ncells), 0.0);
   {
     vtkSMPThreadLocal<std::vector<double>> partial, partialRange;
     vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
@@ -623,14 +702,14 @@ int vtkShockSensor::ExecuteData(
         double cmax = 0.0, plo = VTK_DOUBLE_MAX, phi = -VTK_DOUBLE_MAX, psum = 0.0;
         for (int a = 0; a < n; ++a)
         {
-          cmax = std::max(cmax, pointInfo[3 * static_cast<size_t>(ids[a])]);
-          const double pa = state[static_cast<size_t>(ids[a]) * NC + 3];
+          cmax = std::max(cmax, st.PointInfo[3 * static_cast<size_t>(ids[a])]);
+          const double pa = st.State[static_cast<size_t>(ids[a]) * NC + 3];
           plo = std::min(plo, pa);
           phi = std::max(phi, pa);
           psum += pa;
         }
         const double range = psum > 0.0 ? (phi - plo) * n / psum : 0.0;
-        cellRange[c] = range;
+        st.CellRange[c] = range;
         for (int a = 0; a < n; ++a)
         {
           mx[ids[a]] = std::max(mx[ids[a]], cmax);
@@ -642,7 +721,7 @@ int vtkShockSensor::ExecuteData(
     {
       for (vtkIdType p = 0; p < static_cast<vtkIdType>(mx.size()); ++p)
       {
-        localPeak[p] = std::max(localPeak[p], mx[p]);
+        st.LocalPeak[p] = std::max(st.LocalPeak[p], mx[p]);
       }
     }
     for (const std::vector<double>& rx : partialRange)
@@ -654,7 +733,7 @@ int vtkShockSensor::ExecuteData(
     }
   }
   {
-    double* outMn = normalMach->GetPointer(0);
+    double* outMn = st.NormalMach->GetPointer(0);
     for (vtkIdType p = 0; p < npts; ++p)
     {
       if (localRange[p] < FlatPressure)
@@ -663,13 +742,20 @@ int vtkShockSensor::ExecuteData(
       }
     }
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkShockSensor::MarkShockCells(Execution& run, FlowState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
+  double* mn = st.RawMach.data();
 
   // ---- Shock cells: Mn = 1 crosses the cell, and the noise filters pass.
-  vtkNew<vtkUnsignedCharArray> shockCells;
-  shockCells->SetName("ShockCells");
-  shockCells->SetNumberOfTuples(ncells);
-  unsigned char* sc = shockCells->GetPointer(0);
-  const double gradLimit = this->PressureGradientThreshold * gradMax;
+  st.ShockCells->SetName("ShockCells");
+  st.ShockCells->SetNumberOfTuples(ncells);
+  unsigned char* sc = st.ShockCells->GetPointer(0);
+  const double gradLimit = this->PressureGradientThreshold * st.GradMax;
   const bool compressionOnly = this->CompressionOnly;
   const double localFraction = this->LocalPeakFraction;
   const double machLo = this->UpstreamMachRange[0];
@@ -690,15 +776,15 @@ int vtkShockSensor::ExecuteData(
         const double m = mn[ids[a]];
         lo = std::min(lo, m);
         hi = std::max(hi, m);
-        const double* info = &pointInfo[3 * static_cast<size_t>(ids[a])];
+        const double* info = &st.PointInfo[3 * static_cast<size_t>(ids[a])];
         gsum += info[0];
         vgsum += info[1];
         machMax = std::max(machMax, info[2]);
-        peak = std::max(peak, localPeak[ids[a]]);
+        peak = std::max(peak, st.LocalPeak[ids[a]]);
       }
       const bool crossed = (lo < 1.0 && hi >= 1.0) || (lo <= 1.0 && hi > 1.0);
       const bool strong = gsum / n >= gradLimit && gsum / n >= localFraction * peak && gsum > 0.0 &&
-        cellRange[c] >= FlatPressure;
+        st.CellRange[c] >= FlatPressure;
       const bool compression = !compressionOnly || vgsum > 0.0;
       const bool upstream = machMax >= machLo && machMax <= machHi;
       if (!(crossed && strong && compression && upstream))
@@ -719,7 +805,7 @@ int vtkShockSensor::ExecuteData(
       for (int a = 0; a < nw; ++a)
       {
         const double m = mn[ids[a]];
-        const double pa = state[static_cast<size_t>(ids[a]) * NC + 3];
+        const double pa = st.State[static_cast<size_t>(ids[a]) * NC + 3];
         for (int k = 0; k < 3; ++k)
         {
           gm[k] += W[a][k] * m;
@@ -729,25 +815,6 @@ int vtkShockSensor::ExecuteData(
       sc[c] = (gm[0] * gp[0] + gm[1] * gp[1] + gm[2] * gp[2] < 0.0) ? 1 : 0;
     }
   });
-
-  output->GetPointData()->AddArray(normalMach);
-  output->GetCellData()->AddArray(shockCells);
-  // What was read: the arrays of the set, the set, and R with temperature.
-  vtkNew<vtkStringArray> used;
-  used->SetName("FlowStateArrays");
-  for (const Slot& s : slots)
-  {
-    used->InsertNextValue(found[s.Index]->GetName());
-  }
-  output->GetFieldData()->AddArray(used);
-  double setUsed = set;
-  output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("VariableSetUsed", &setUsed, 1));
-  if (set == VELOCITY_PRESSURE_TEMPERATURE)
-  {
-    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("GasConstantUsed", &R, 1));
-  }
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

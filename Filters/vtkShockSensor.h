@@ -79,13 +79,13 @@
 #define vtkShockSensor_h
 
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkARVolumeFilter.h"
 
-class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkShockSensor : public vtkUnstructuredGridAlgorithm
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkShockSensor : public vtkARVolumeFilter
 {
 public:
   static vtkShockSensor* New();
-  vtkTypeMacro(vtkShockSensor, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkShockSensor, vtkARVolumeFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   enum VariableSets
@@ -161,10 +161,7 @@ protected:
   vtkShockSensor();
   ~vtkShockSensor() override = default;
 
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
-  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
+  int Execute(Execution& run) override;
 
 public:
   /// The names an automatic array of index `idx` (ArrayIndices) is looked
@@ -187,6 +184,20 @@ protected:
 private:
   vtkShockSensor(const vtkShockSensor&) = delete;
   void operator=(const vtkShockSensor&) = delete;
+
+  ///@{
+  /// The passes of Execute, in order, over the state of one execution
+  /// (FlowState, in the .cxx).
+  struct FlowState;
+  void ResolveFlowState(Execution& run, FlowState& st);
+  void ReadFlowState(Execution& run, FlowState& st);
+  void ResolveGasConstant(Execution& run, FlowState& st);
+  bool ToPrimitiveState(Execution& run, FlowState& st);
+  bool PressureGradient(Execution& run, FlowState& st);
+  void PointQuantities(Execution& run, FlowState& st);
+  void LocalPeaks(Execution& run, FlowState& st);
+  void MarkShockCells(Execution& run, FlowState& st);
+  ///@}
 
   int VariableSet = AUTOMATIC;
   double Gamma = 1.4;

@@ -4,6 +4,7 @@
 #include "vtkShockSensor.h"
 
 #include "vtkARInputChecks.h"
+#include "vtkARVolumeFilterExecution.h"
 #include "vtkARMeshKernels.h"
 #include "vtkCellData.h"
 #include "vtkNew.h"
@@ -44,7 +45,8 @@ inline double BooleanSum(double a, double b)
 
 //------------------------------------------------------------------------------
 vtkWeightFunction::vtkWeightFunction()
-  : VariableSelection(vtkDataArraySelection::New())
+  : vtkARVolumeFilter("the weight function")
+  , VariableSelection(vtkDataArraySelection::New())
 {
   // A change of the selection re-executes the filter.
   this->VariableSelection->AddObserver(
@@ -70,46 +72,60 @@ void vtkWeightFunction::RemoveAllVariables()
 }
 
 //------------------------------------------------------------------------------
-int vtkWeightFunction::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  vtkARMeshKernels::RequestExtraGhostLevels(inputVector, outputVector, 1);
-  return 1;
-}
-
 //------------------------------------------------------------------------------
-int vtkWeightFunction::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+/// The state of one execution, shared by the passes of Execute.
+struct vtkWeightFunction::WeightState
 {
-  // Threads for this filter's own work only: the process's SMP backend is
-  // left as the user has it.
-  int result = 1;
-  vtkARMeshKernels::Threaded([&]() { result = this->ExecuteData(request, inputVector, outputVector); });
-  return result;
-}
+  std::vector<Variable> Variables;
+  int NumberOfColumns = 0;       ///< nq: the variables' components
+  std::vector<double> Q;         ///< the variables at the points, nq columns
+  std::vector<double> CellValues; ///< cell variables, cell-major, nqc columns
+  std::vector<int> CellColumns;   ///< their columns in Q
+  int NumberOfCellColumns = 0;   ///< nqc
+  std::vector<int> CellIndexOfColumn; ///< column -> index into CellValues, or -1
+  std::vector<float> Wk;         ///< W^k per cell, 3 columns
+  double WMax = 0.0;             ///< the maximum of W^k over cells and directions
+};
 
-//------------------------------------------------------------------------------
-int vtkWeightFunction::ExecuteData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkWeightFunction::Execute(Execution& run)
 {
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
-  output->ShallowCopy(input);
+  // The passes below share the state of this execution (WeightState).
+  WeightState st;
+  std::ostringstream& problem = run.Problem;
 
   // ---- Validation. Every rank reaches the same collective calls, in order.
-  std::ostringstream problem;
-  vtkARMeshKernels::MeshView mesh;
-  std::string meshError;
-  if (!mesh.Build(input, meshError))
-  {
-    problem << meshError << ". ";
-  }
   problem << vtkARInputChecks::Properties()
                .InRange("Epsilon", this->Epsilon, 0.0, VTK_DOUBLE_MAX, "added to |qbar| in Eq. 1")
                .Message();
 
-  std::vector<Variable> variables;
-  int nq = 0;
+  this->SelectVariables(run, st);
+  this->PackValues(run, st);
+
+  if (!this->Proceed(run))
+  {
+    return 1;
+  }
+
+  if (!this->CellValuesToPoints(run, st))
+  {
+    return 1;
+  }
+  if (!this->ComputeWeights(run, st))
+  {
+    return 1;
+  }
+  this->WriteWeights(run, st);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkWeightFunction::SelectVariables(Execution& run, WeightState& st)
+{
+  vtkUnstructuredGrid* input = run.Input;
+  std::ostringstream& problem = run.Problem;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+
   vtkPointData* pd = input->GetPointData();
   vtkCellData* cd = input->GetCellData();
   // The variables: those selected, or with none selected (pvpython on a
@@ -167,9 +183,9 @@ int vtkWeightFunction::ExecuteData(
       }
       continue;
     }
-    v.FirstColumn = nq;
-    nq += v.Array->GetNumberOfComponents();
-    variables.push_back(v);
+    v.FirstColumn = st.NumberOfColumns;
+    st.NumberOfColumns += v.Array->GetNumberOfComponents();
+    st.Variables.push_back(v);
   }
   if (names.empty())
   {
@@ -178,21 +194,25 @@ int vtkWeightFunction::ExecuteData(
                "(rho, U, p) by name: choose one or more point or cell arrays (the paper uses the "
                "conserved variables). ";
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkWeightFunction::PackValues(Execution& run, WeightState& st)
+{
+  std::ostringstream& problem = run.Problem;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
 
   // Values of all variables at the points: nq columns.
-  const vtkIdType npts = mesh.NumberOfPoints;
-  const vtkIdType ncells = mesh.NumberOfCells;
-  std::vector<double> Q(static_cast<size_t>(npts) * std::max(nq, 1));
-  std::vector<double> cellValues; // cell variables, cell-major, nqc columns
-  std::vector<int> cellColumns;   // their columns in Q
+  st.Q.assign(static_cast<size_t>(npts) * std::max(st.NumberOfColumns, 1), 0.0);
   if (problem.str().empty() && ncells > 0)
   {
-    for (const Variable& v : variables)
+    for (const Variable& v : st.Variables)
     {
       if (v.OnPoints)
       {
         const vtkIdType bad =
-          vtkARMeshKernels::PackComponents(v.Array, Q.data(), nq, v.FirstColumn);
+          vtkARMeshKernels::PackComponents(v.Array, st.Q.data(), st.NumberOfColumns, v.FirstColumn);
         if (bad >= 0)
         {
           problem << "Point array '" << v.Array->GetName() << "' holds NaN or Inf (point " << bad
@@ -203,21 +223,21 @@ int vtkWeightFunction::ExecuteData(
       {
         for (int k = 0; k < v.Array->GetNumberOfComponents(); ++k)
         {
-          cellColumns.push_back(v.FirstColumn + k);
+          st.CellColumns.push_back(v.FirstColumn + k);
         }
       }
     }
-    const int nqc = static_cast<int>(cellColumns.size());
+    const int nqc = static_cast<int>(st.CellColumns.size());
     if (nqc > 0)
     {
-      cellValues.resize(static_cast<size_t>(ncells) * nqc);
+      st.CellValues.resize(static_cast<size_t>(ncells) * nqc);
       int offset = 0;
-      for (const Variable& v : variables)
+      for (const Variable& v : st.Variables)
       {
         if (!v.OnPoints)
         {
           const vtkIdType bad =
-            vtkARMeshKernels::PackComponents(v.Array, cellValues.data(), nqc, offset);
+            vtkARMeshKernels::PackComponents(v.Array, st.CellValues.data(), nqc, offset);
           if (bad >= 0)
           {
             problem << "Cell array '" << v.Array->GetName() << "' holds NaN or Inf (cell " << bad
@@ -228,36 +248,47 @@ int vtkWeightFunction::ExecuteData(
       }
     }
   }
+}
 
-  if (!vtkARMeshKernels::AgreeToProceed(
-        this, problem.str(), mesh, vtkARMeshKernels::Census(mesh), "the weight function"))
-  {
-    return 1;
-  }
-  this->UpdateProgress(0.1);
+//------------------------------------------------------------------------------
+bool vtkWeightFunction::CellValuesToPoints(Execution& run, WeightState& st)
+{
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
 
   // ---- Cell variables are averaged to the points to take their gradients.
-  const int nqc = static_cast<int>(cellColumns.size());
-  if (nqc > 0)
+  st.NumberOfCellColumns = static_cast<int>(st.CellColumns.size());
+  if (st.NumberOfCellColumns > 0)
   {
-    std::vector<int> tableColumns(nqc);
-    for (int k = 0; k < nqc; ++k)
+    std::vector<int> tableColumns(st.NumberOfCellColumns);
+    for (int k = 0; k < st.NumberOfCellColumns; ++k)
     {
       tableColumns[k] = k;
     }
     if (!vtkARMeshKernels::CellColumnsToPoints(
-          mesh, cellValues.data(), nqc, tableColumns, Q.data(), nq, cellColumns, this))
+          mesh, st.CellValues.data(), st.NumberOfCellColumns, tableColumns, st.Q.data(), st.NumberOfColumns, st.CellColumns, this))
     {
-      return 1;
+      return false;
     }
   }
   // Column -> index into cellValues, or -1 for a point variable.
-  std::vector<int> cellIndexOfColumn(nq, -1);
-  for (int k = 0; k < nqc; ++k)
+  st.CellIndexOfColumn.assign(st.NumberOfColumns, -1);
+  for (int k = 0; k < st.NumberOfCellColumns; ++k)
   {
-    cellIndexOfColumn[cellColumns[k]] = k;
+    st.CellIndexOfColumn[st.CellColumns[k]] = k;
   }
   this->UpdateProgress(0.2);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
+{
+  // Passes 1 and 2 of Eq. 1-2 together (about 190 lines): both evaluate the
+  // normalized gradients of every cell with the one lambda below.
+  vtkUnstructuredGrid* input = run.Input;
+  vtkUnstructuredGrid* output = run.Output;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
 
   // Normalized gradient magnitudes r_ik of cell c; returns false for cells
   // that do not take part (not a linear 3-D cell, degenerate).
@@ -272,17 +303,17 @@ int vtkWeightFunction::ExecuteData(
       {
         return false;
       }
-      const double* q0 = &Q[static_cast<size_t>(ids[0]) * nq];
-      const double* q1 = &Q[static_cast<size_t>(ids[1]) * nq];
-      const double* q2 = &Q[static_cast<size_t>(ids[2]) * nq];
-      const double* q3 = &Q[static_cast<size_t>(ids[3]) * nq];
-      for (int i = 0; i < nq; ++i)
+      const double* q0 = &st.Q[static_cast<size_t>(ids[0]) * st.NumberOfColumns];
+      const double* q1 = &st.Q[static_cast<size_t>(ids[1]) * st.NumberOfColumns];
+      const double* q2 = &st.Q[static_cast<size_t>(ids[2]) * st.NumberOfColumns];
+      const double* q3 = &st.Q[static_cast<size_t>(ids[3]) * st.NumberOfColumns];
+      for (int i = 0; i < st.NumberOfColumns; ++i)
       {
         const double d1 = q1[i] - q0[i], d2 = q2[i] - q0[i], d3 = q3[i] - q0[i];
         double mean = 0.25 * (q0[i] + q1[i] + q2[i] + q3[i]);
-        if (cellIndexOfColumn[i] >= 0)
+        if (st.CellIndexOfColumn[i] >= 0)
         {
-          mean = cellValues[static_cast<size_t>(c) * nqc + cellIndexOfColumn[i]];
+          mean = st.CellValues[static_cast<size_t>(c) * st.NumberOfCellColumns + st.CellIndexOfColumn[i]];
         }
         const double inv = 1.0 / (std::abs(mean) + eps);
         for (int k = 0; k < 3; ++k)
@@ -300,21 +331,21 @@ int vtkWeightFunction::ExecuteData(
       return false;
     }
     const vtkIdType* ids = mesh.CellPoints(c);
-    for (int i = 0; i < nq; ++i)
+    for (int i = 0; i < st.NumberOfColumns; ++i)
     {
       double g0 = 0.0, g1 = 0.0, g2 = 0.0, mean = 0.0;
       for (int a = 0; a < n; ++a)
       {
-        const double q = Q[static_cast<size_t>(ids[a]) * nq + i];
+        const double q = st.Q[static_cast<size_t>(ids[a]) * st.NumberOfColumns + i];
         g0 += W[a][0] * q;
         g1 += W[a][1] * q;
         g2 += W[a][2] * q;
         mean += q;
       }
       mean /= n;
-      if (cellIndexOfColumn[i] >= 0)
+      if (st.CellIndexOfColumn[i] >= 0)
       {
-        mean = cellValues[static_cast<size_t>(c) * nqc + cellIndexOfColumn[i]];
+        mean = st.CellValues[static_cast<size_t>(c) * st.NumberOfCellColumns + st.CellIndexOfColumn[i]];
       }
       const double inv = 1.0 / (std::abs(mean) + eps);
       r[3 * i + 0] = std::abs(g0) * inv;
@@ -334,20 +365,20 @@ int vtkWeightFunction::ExecuteData(
       return;
     }
     std::vector<double>& mx = localMax.Local();
-    mx.resize(3 * nq, 0.0);
-    std::vector<double> r(3 * nq);
+    mx.resize(3 * st.NumberOfColumns, 0.0);
+    std::vector<double> r(3 * st.NumberOfColumns);
     for (vtkIdType c = b; c < e; ++c)
     {
       if (mesh.IsOwnedCell(c) && normalizedGradients(c, r.data()))
       {
-        for (int j = 0; j < 3 * nq; ++j)
+        for (int j = 0; j < 3 * st.NumberOfColumns; ++j)
         {
           mx[j] = std::max(mx[j], r[j]);
         }
       }
     }
   });
-  std::vector<double> rMax(3 * nq, 0.0);
+  std::vector<double> rMax(3 * st.NumberOfColumns, 0.0);
   for (auto& mx : localMax)
   {
     for (size_t j = 0; j < mx.size(); ++j)
@@ -359,7 +390,7 @@ int vtkWeightFunction::ExecuteData(
   double bounds[6];
   input->GetBounds(bounds);
   double extent[6] = { -bounds[0], bounds[1], -bounds[2], bounds[3], -bounds[4], bounds[5] };
-  vtkARMeshKernels::AllReduceMax(rMax.data(), 3 * nq);
+  vtkARMeshKernels::AllReduceMax(rMax.data(), 3 * st.NumberOfColumns);
   vtkARMeshKernels::AllReduceMax(extent, 6);
   const double L = std::sqrt((extent[1] + extent[0]) * (extent[1] + extent[0]) +
     (extent[3] + extent[2]) * (extent[3] + extent[2]) + (extent[5] + extent[4]) * (extent[5] + extent[4]));
@@ -368,13 +399,13 @@ int vtkWeightFunction::ExecuteData(
   if (abortFlag > 0.0)
   {
     output->ShallowCopy(input);
-    return 1;
+    return false;
   }
   // [.]_max of Eq. 1: per variable, over all cells and all three directions.
   // A variable whose relative change across the whole domain stays below
   // 1e-8 (r * L) is constant up to round-off and contributes nothing.
-  std::vector<double> rInv(3 * nq, 0.0);
-  for (int i = 0; i < nq; ++i)
+  std::vector<double> rInv(3 * st.NumberOfColumns, 0.0);
+  for (int i = 0; i < st.NumberOfColumns; ++i)
   {
     const double m = std::max({ rMax[3 * i], rMax[3 * i + 1], rMax[3 * i + 2] });
     for (int k = 0; k < 3; ++k)
@@ -385,7 +416,7 @@ int vtkWeightFunction::ExecuteData(
   this->UpdateProgress(0.5);
 
   // ---- Pass 2: W^k per cell (Boolean sum over variables), and its maximum.
-  std::vector<float> Wk(3 * static_cast<size_t>(ncells), 0.0f);
+  st.Wk.assign(3 * static_cast<size_t>(ncells), 0.0f);
   vtkSMPThreadLocal<double> localWMax(0.0);
   vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
     if (aborted || vtkARMeshKernels::Aborted(this))
@@ -394,7 +425,7 @@ int vtkWeightFunction::ExecuteData(
       return;
     }
     double& wmax = localWMax.Local();
-    std::vector<double> r(3 * nq);
+    std::vector<double> r(3 * st.NumberOfColumns);
     for (vtkIdType c = b; c < e; ++c)
     {
       if (!normalizedGradients(c, r.data()))
@@ -402,7 +433,7 @@ int vtkWeightFunction::ExecuteData(
         continue;
       }
       double w[3] = { 0.0, 0.0, 0.0 };
-      for (int i = 0; i < nq; ++i)
+      for (int i = 0; i < st.NumberOfColumns; ++i)
       {
         for (int k = 0; k < 3; ++k)
         {
@@ -411,7 +442,7 @@ int vtkWeightFunction::ExecuteData(
       }
       for (int k = 0; k < 3; ++k)
       {
-        Wk[3 * static_cast<size_t>(c) + k] = static_cast<float>(w[k]);
+        st.Wk[3 * static_cast<size_t>(c) + k] = static_cast<float>(w[k]);
         if (mesh.IsOwnedCell(c))
         {
           wmax = std::max(wmax, w[k]);
@@ -419,34 +450,44 @@ int vtkWeightFunction::ExecuteData(
       }
     }
   });
-  double wMax = 0.0;
+  st.WMax = 0.0;
   for (double m : localWMax)
   {
-    wMax = std::max(wMax, m);
+    st.WMax = std::max(st.WMax, m);
   }
-  vtkARMeshKernels::AllReduceMax(&wMax, 1);
+  vtkARMeshKernels::AllReduceMax(&st.WMax, 1);
   abortFlag = aborted ? 1.0 : 0.0;
   vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
   if (abortFlag > 0.0)
   {
     output->ShallowCopy(input);
-    return 1;
+    return false;
   }
   this->UpdateProgress(0.8);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkWeightFunction::WriteWeights(Execution& run, WeightState& st)
+{
+  vtkUnstructuredGrid* output = run.Output;
+  vtkARMeshKernels::MeshView& mesh = run.Mesh;
+  const vtkIdType npts = run.Mesh.NumberOfPoints;
+  const vtkIdType ncells = run.Mesh.NumberOfCells;
 
   // ---- Pass 3: W = 1 + Boolean sum over directions of W^k / max.
   vtkNew<vtkDoubleArray> result;
   result->SetName(this->ResultArrayName.c_str());
   result->SetNumberOfTuples(ncells);
   double* out = result->GetPointer(0);
-  const double wInv = wMax > 0.0 ? 1.0 / wMax : 0.0;
+  const double wInv = st.WMax > 0.0 ? 1.0 / st.WMax : 0.0;
   vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType c = b; c < e; ++c)
     {
       double s = 0.0;
       for (int k = 0; k < 3; ++k)
       {
-        s = BooleanSum(s, std::min(1.0, Wk[3 * static_cast<size_t>(c) + k] * wInv));
+        s = BooleanSum(s, std::min(1.0, st.Wk[3 * static_cast<size_t>(c) + k] * wInv));
       }
       out[c] = 1.0 + s;
     }
@@ -454,7 +495,7 @@ int vtkWeightFunction::ExecuteData(
   output->GetCellData()->AddArray(result);
   vtkNew<vtkStringArray> used; // the variables W was computed from (chosen or automatic)
   used->SetName("VariablesUsed");
-  for (const Variable& v : variables)
+  for (const Variable& v : st.Variables)
   {
     used->InsertNextValue(v.Array->GetName());
   }
@@ -492,8 +533,6 @@ int vtkWeightFunction::ExecuteData(
       output->GetPointData()->AddArray(pointResult);
     }
   }
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

@@ -60,17 +60,17 @@
 #define vtkWeightFunction_h
 
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkARVolumeFilter.h"
 
 #include <string>
 
 class vtkDataArraySelection;
 
-class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkWeightFunction : public vtkUnstructuredGridAlgorithm
+class ADAPTIVEREDISTRIBUTIONFILTERS_EXPORT vtkWeightFunction : public vtkARVolumeFilter
 {
 public:
   static vtkWeightFunction* New();
-  vtkTypeMacro(vtkWeightFunction, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkWeightFunction, vtkARVolumeFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
@@ -110,14 +110,22 @@ protected:
   vtkWeightFunction();
   ~vtkWeightFunction() override;
 
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  /// RequestData's work, with vtkSMPTools on threads (vtkARMeshKernels::Threaded).
-  int ExecuteData(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
+  int Execute(Execution& run) override;
 
 private:
   vtkWeightFunction(const vtkWeightFunction&) = delete;
   void operator=(const vtkWeightFunction&) = delete;
+
+  ///@{
+  /// The passes of Execute, in order, over the state of one execution
+  /// (WeightState, in the .cxx).
+  struct WeightState;
+  void SelectVariables(Execution& run, WeightState& st);
+  void PackValues(Execution& run, WeightState& st);
+  bool CellValuesToPoints(Execution& run, WeightState& st);
+  bool ComputeWeights(Execution& run, WeightState& st);
+  void WriteWeights(Execution& run, WeightState& st);
+  ///@}
 
   vtkDataArraySelection* VariableSelection;
   double Epsilon = 1e-3;

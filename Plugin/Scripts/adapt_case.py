@@ -211,18 +211,24 @@ def shock_stations(surfaces, h, depth_axis):
     shock is measured on: up to 24 points spread over the surface, at least a
     line's half length (8 h, h the first cycle's input size at the surface)
     from its border (in the cross-section of a one-cell-deep case, at
-    mid-depth)."""
+    mid-depth). A surface narrower than that (the quarter cone's shock is
+    bounded by its symmetry planes: no point of it was 8 h from both) takes
+    its stations at half the margin, and so on down to h."""
     length = 8.0 * h
     out = []
     for sid, surf in surfaces:
-        P, N = shock_measure.surface_stations(surf, count=24, margin=length, depth_axis=depth_axis)
+        margin = length
+        P, N = shock_measure.surface_stations(surf, count=24, margin=margin, depth_axis=depth_axis)
+        while len(P) == 0 and margin > h:
+            margin *= 0.5
+            P, N = shock_measure.surface_stations(surf, count=24, margin=margin, depth_axis=depth_axis)
         out.append((sid, P, N, length))
     return out
 
 
 def measure_shock(grid, stations):
     """shock_measure's summary per surface on `grid`'s point array p."""
-    return [(sid, shock_measure.summary(shock_measure.measure(grid, P, N, half_length=L)) if len(P) else
+    return [(sid, shock_measure.summary(shock_measure.measure(grid, P, N, half_length=L, clip=True)) if len(P) else
              dict(lines=0, valid=0)) for sid, P, N, L in stations]
 
 

@@ -67,13 +67,14 @@ def _crossing(s, f, i, level):
     return s[i] if df == 0 else s[i] + (level - f[i]) * (s[i + 1] - s[i]) / df
 
 
-def profile(s, q, states=None):
+def profile(s, q, states=None, downstream_plateau=True):
     """(position, thickness, q1, q2) of the rise of q along the line at the
     abscissae s (increasing), or None when the line crossed no clean shock;
     see the module docstring. `states` (q1, q2): the exact states ahead of
     and just behind the shock, for flows that are not uniform behind it (a
     cone's: p keeps rising towards the body); then only the upstream fifth
-    must be a plateau."""
+    must be a plateau; likewise with `downstream_plateau` False (q2 then the
+    median of the last fifth)."""
     n = len(s)
     k = max(3, n // 5)
     if n < 3 * k:
@@ -87,7 +88,7 @@ def profile(s, q, states=None):
     if q2 - q1 <= MIN_JUMP * max(abs(q1), 1e-300):
         return None
     f = (q - q1) / (q2 - q1)
-    if np.ptp(f[:k]) > PLATEAU_SPREAD or (states is None and np.ptp(f[-k:]) > PLATEAU_SPREAD):
+    if np.ptp(f[:k]) > PLATEAU_SPREAD or (states is None and downstream_plateau and np.ptp(f[-k:]) > PLATEAU_SPREAD):
         return None
     up = np.where((f[:-1] < 0.5) & (f[1:] >= 0.5))[0]
     if len(up) == 0:
@@ -109,11 +110,18 @@ def profile(s, q, states=None):
     return (-pos if flipped else pos), s_hi - s_lo, q1, q2
 
 
-def measure(grid, origins, normals, half_length, samples=801, name="p", states=None):
+def measure(grid, origins, normals, half_length, samples=801, name="p", states=None, clip=False):
     """Probe `name` on the lines origins[i] + s normals[i], |s| <= half_length,
     and measure each line's profile.  Returns a dict of per-line arrays:
     valid (bool), offset (position of f = 1/2 along the normal, from the
-    origin), thickness (10-90 %), q1, q2, points (the f = 1/2 points)."""
+    origin), thickness (10-90 %), q1, q2, points (the f = 1/2 points).
+    With `clip`, a line that leaves the domain is cut to its piece inside
+    around the origin (a cone's shock is closer to the body than the line is
+    long) and measured there when that piece is at least a quarter of the
+    line, with the piece's fifths as its states; only the upstream fifth must
+    then be a plateau (behind a cone's shock p keeps rising to the body, so
+    q2, the median of the fifth at the body, is a little above the value
+    just behind the shock and the thickness a little wide)."""
     o = np.asarray(origins, dtype=np.float64).reshape(-1, 3)
     nrm = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
     nrm = nrm / np.linalg.norm(nrm, axis=1)[:, None]
@@ -128,9 +136,20 @@ def measure(grid, origins, normals, half_length, samples=801, name="p", states=N
              q1=np.full(m, np.nan), q2=np.full(m, np.nan), points=np.full((m, 3), np.nan),
              half_length=half_length)
     for i in range(m):
+        si, qi = s, q[i]
         if not ok[i].all():
-            continue
-        res = profile(s, q[i], states)
+            c = samples // 2
+            if not (clip and ok[i][c]):
+                continue
+            a, b = c, c
+            while a > 0 and ok[i][a - 1]:
+                a -= 1
+            while b < samples - 1 and ok[i][b + 1]:
+                b += 1
+            if b - a + 1 < samples // 4:
+                continue
+            si, qi = s[a:b + 1], q[i][a:b + 1]
+        res = profile(si, qi, states, downstream_plateau=ok[i].all())
         if res is None:
             continue
         r["valid"][i] = True

@@ -10,7 +10,10 @@ that adapt_case.py reports and the payoff benchmark compares. Asserts:
   0.1373 (linear interpolation can only widen tanh's rise: it lies above the
   convex part, below the concave one) and at most 8 % more on the Kuhn-split
   cube, 25 % on Gmsh's tetrahedra (edges up to ~1.5 h, crossed obliquely);
-  the position within h / 4 of the plane; lines that leave the cube: rejected;
+  the position within h / 4 of the plane; lines that leave the cube: rejected,
+  and with clip measured on their piece inside as the short line is;
+- a rise behind the shock (a cone's): rejected unless only the upstream
+  plateau is asked for;
 - surface_stations on a square: the requested count, each at least the margin
   from the boundary, unit normals along the square's normal;
 - the bundled wedge (a real rhoCentralFoam solution) on lines normal to the
@@ -44,6 +47,12 @@ for label, q in (("rising", 2.0 + 3.0 * 0.5 * (1 + np.tanh((s - c) / delta))),
     check(abs(q1 - 2.0) < 1e-4 and abs(q2 - 5.0) < 1e-4, "%s tanh: states %.4f, %.4f (2, 5)" % (label, q1, q2))
 check(sm.profile(s, np.full_like(s, 3.0)) is None, "no jump: rejected")
 check(sm.profile(s, 2.0 + s) is None, "a linear ramp (ends not plateaus): rejected")
+# behind a cone's shock p keeps rising: a downstream ramp of 0.3 of the jump
+cone_like = 2.0 + 3.0 * 0.5 * (1 + np.tanh((s - c) / delta)) + np.where(s > c + 5 * delta, 9.0 * (s - c - 5 * delta), 0.0)
+res = sm.profile(s, cone_like, downstream_plateau=False)
+check(sm.profile(s, cone_like) is None and res is not None and abs(res[0] - c) < delta,
+      "a rise behind the shock: rejected with both plateaus asked, measured with the upstream one only "
+      "(position %s, exact %.4f)" % (None if res is None else "%.4f" % res[0], c))
 
 # ---- the analytic oblique shock
 for name in ("oblique_shock_unstructured.vtu", "oblique_shock_structured.vtu"):
@@ -68,6 +77,14 @@ for name in ("oblique_shock_unstructured.vtu", "oblique_shock_structured.vtu"):
           "%s: position off the plane at most %.4f (h / 4 = %.4f)" % (name, np.abs(r["offset"]).max(), 0.25 / 16))
     far = sm.measure(grid, [o + 0.45 * t1], [n], half_length=0.3)
     check(not far["valid"][0], "%s: a line leaving the cube is rejected" % name)
+    # clip: a line longer than the cube is measured on its piece inside
+    # (adapt_case.py: a cone's shock is nearer the body than its lines are long)
+    long = sm.measure(grid, origins[4:5], n[None, :], half_length=0.9)
+    cut = sm.measure(grid, origins[4:5], n[None, :], half_length=0.9, clip=True)
+    check(not long["valid"][0] and cut["valid"][0] and abs(cut["thickness"][0] / r["thickness"][4] - 1) < 0.02
+          and abs(cut["offset"][0] - r["offset"][4]) < 0.25 / 16,
+          "%s: a line leaving the cube at both ends: rejected, clipped to the cube measured as the short line "
+          "(thickness %.4f vs %.4f)" % (name, cut["thickness"][0], r["thickness"][4]))
 
 # ---- stations on a surface
 from vtkmodules.vtkFiltersSources import vtkPlaneSource  # noqa: E402

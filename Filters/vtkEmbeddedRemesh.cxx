@@ -222,14 +222,9 @@ int vtkEmbeddedRemesh::ExecuteData(
     {
       return this->RemeshVolume(volume, surfaces, out, embedded, planes);
     }
-    catch (const std::bad_alloc&)
-    {
-      failure = "EmbeddedRemesh ran out of memory (std::bad_alloc) while remeshing; raise SurfaceEdgeLength "
-                "(or SurfaceSizeFactor), or remesh a smaller region (LocalCavity, a lower RemovalFactor).";
-    }
     catch (const std::exception& e)
     {
-      failure = std::string("EmbeddedRemesh failed: ") + e.what() + ".";
+      failure = vtkEmbeddedRemeshFailure(e);
     }
     vtkErrorMacro(<< failure << " The input passes through unchanged.");
     out->ShallowCopy(volume);

@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -435,6 +436,23 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     output->ShallowCopy(input);
     return 1;
   };
+  // Work on rank 0 alone (the surface remesh, the gathered cavity's merge
+  // and refill): an exception there becomes the problem every rank then
+  // agrees on, so the other ranks are not left waiting in a collective call.
+  auto onRoot = [&](const std::function<void()>& work) {
+    if (rank != 0)
+    {
+      return;
+    }
+    try
+    {
+      work();
+    }
+    catch (const std::exception& e)
+    {
+      problem = vtkEmbeddedRemeshFailure(e) + " (on rank 0)";
+    }
+  };
   vtkEmbeddedRemeshLap lap;
   vtkEmbeddedRemeshSummary summary;
   // ---- Coordinates and conformity of this rank's piece, as in serial: a
@@ -509,11 +527,12 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   }
   // ---- S remeshed on rank 0, sent to every rank.
   vtkEmbeddedRemeshSoup r;
-  if (rank == 0)
-  {
-    r = vtkEmbeddedRemeshRemeshSurface(this, s, edge);
-  }
+  onRoot([&]() { r = vtkEmbeddedRemeshRemeshSurface(this, s, edge); });
   vtkEmbeddedRemeshBroadcast(r);
+  if (failed())
+  {
+    return passThrough();
+  }
   this->UpdateProgress(0.3);
   summary.Seconds.emplace_back("SecondsSurfaceMeshing", lap());
 
@@ -551,13 +570,26 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     problem = "EmbeddedRemesh: no node of the volume mesh lies near the feature surface: nothing to remesh.";
     return passThrough();
   }
-  vtkSmartPointer<vtkUnstructuredGrid> G = GatherSelected(input, piece, cavity, WithRings(piece, cavity), rank);
+  const std::vector<char> selected = WithRings(piece, cavity);
+  vtkSmartPointer<vtkUnstructuredGrid> G;
+  try
+  {
+    G = GatherSelected(input, piece, cavity, selected, rank); // collective, then the merge on rank 0
+  }
+  catch (const std::exception& e)
+  {
+    problem = vtkEmbeddedRemeshFailure(e) + " (gathering the cavity on rank " + std::to_string(rank) + ")";
+    G = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  }
 
   // ---- Rank 0 refills the gathered cavity.
   ar::CavityRemesh result;
   std::vector<double> removedCells; // rank, cell of every gathered cell that goes
-  if (rank == 0)
-  {
+  onRoot([&]() {
+    if (!problem.empty())
+    {
+      return;
+    }
     ar::TetMesh gathered;
     gathered.Points.resize(3 * G->GetNumberOfPoints());
     for (vtkIdType i = 0; i < G->GetNumberOfPoints(); ++i)
@@ -600,7 +632,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
         }
       }
     }
-  }
+  });
   if (failed())
   {
     return passThrough();

@@ -36,6 +36,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <sstream>
 
 namespace
@@ -63,6 +64,17 @@ void AddSurfaceTriangles(const std::vector<vtkDataSet*>& surfaces, vtkAppendPoly
     append->AddInputData(bare);
   }
 }
+}
+
+//------------------------------------------------------------------------------
+std::string vtkEmbeddedRemeshFailure(const std::exception& e)
+{
+  if (dynamic_cast<const std::bad_alloc*>(&e))
+  {
+    return "EmbeddedRemesh ran out of memory (std::bad_alloc) while remeshing; raise SurfaceEdgeLength "
+           "(or SurfaceSizeFactor), or remesh a smaller region (LocalCavity, a lower RemovalFactor).";
+  }
+  return std::string("EmbeddedRemesh failed: ") + e.what() + ".";
 }
 
 //------------------------------------------------------------------------------

@@ -26,6 +26,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <string>
 #include <utility>
 #include <vector>
@@ -130,6 +131,11 @@ bool vtkEmbeddedRemeshJobFits(vtkEmbeddedRemesh* self, int dimension, double ext
 /// before any mesher sees the mesh (TetGen fails on, or corrupts its heap
 /// with, a crack).
 std::string vtkEmbeddedRemeshCheckCoordinates(vtkUnstructuredGrid* input, const std::vector<vtkDataSet*>& surfaces);
+
+/// The message for an exception out of the core (std::bad_alloc when a job
+/// outgrows the memory despite the size estimate, a CGAL precondition),
+/// which becomes an error, never an abort of the application.
+std::string vtkEmbeddedRemeshFailure(const std::exception& e);
 
 /// The feature surfaces as one triangle soup, merged (coincident points
 /// joined, vtkStaticCleanPolyData at tolerance 0; only triangles kept).

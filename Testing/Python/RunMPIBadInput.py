@@ -13,7 +13,8 @@ volume: the same numbers on both ranks), 1e6 and RemovalFactor 0, a crack of
 duplicated points in rank 1's piece only (both ranks refuse, rank 1 by name),
 and
 FeatureCluster on a range that selects every node (the node count reduced
-over the ranks: all 4108 of the mesh's nodes).
+over the ranks: all 4108 of the mesh's nodes), and a job that runs out of
+memory on rank 0 only.
 """
 import os
 import re
@@ -62,5 +63,17 @@ check(sorted(ranks) == [0, 1] and "The volume mesh is not conforming" in ranks[1
       % {k: v[2][:90] for k, v in ranks.items()})
 check(sorted(ranks) == [0, 1] and all(r[0] == r[1] and r[0] > 0 and r[3] == 0 for r in ranks.values()),
       "crack on rank 1: each rank's piece passes through, nothing added (%s)"
+      % [(r[0], r[1], r[3], r[4]) for r in ranks.values()])
+# Out of memory on rank 0 alone (its address space capped; std::bad_alloc in
+# the surface remesh, which runs on rank 0 only): rank 0 names it, rank 1
+# learns that another rank failed, both pass their pieces through (before,
+# the exception left rank 0's driver and rank 1 waited in the broadcast).
+ranks = results.get("memory", {})
+check(sorted(ranks) == [0, 1] and "ran out of memory (std::bad_alloc)" in ranks[0][2]
+      and "failed on another rank" in ranks[1][2],
+      "out of memory on rank 0: rank 0 says so, rank 1 because another rank failed (%s)"
+      % {k: v[2][:100] for k, v in ranks.items()})
+check(sorted(ranks) == [0, 1] and all(r[0] == r[1] and r[0] > 0 and r[3] == 0 for r in ranks.values()),
+      "out of memory on rank 0: each rank's piece passes through, nothing added (%s)"
       % [(r[0], r[1], r[3], r[4]) for r in ranks.values()])
 artest.finish()

@@ -2,6 +2,7 @@
 #include "vtkARVolumeFilter.h"
 
 #include "vtkARVolumeFilterExecution.h"
+#include "vtkARParallel.h"
 #include "vtkExecutive.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -72,7 +73,7 @@ bool vtkARVolumeFilter::Proceed(Execution& run)
 //------------------------------------------------------------------------------
 bool vtkARVolumeFilter::Cancelled()
 {
-  return vtkARMeshKernels::NumberOfRanks() == 1 && this->CheckAbort();
+  return vtkARParallel::NumberOfRanks() == 1 && this->CheckAbort();
 }
 
 //------------------------------------------------------------------------------

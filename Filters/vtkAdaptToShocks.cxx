@@ -2,6 +2,7 @@
 #include "vtkAdaptToShocks.h"
 
 #include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
 #include "vtkAppendFilter.h"
 #include "vtkAppendPolyData.h"
 #include "ARSurfaceFit.h"
@@ -149,7 +150,7 @@ std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& cho
         local.insert(local.end(), { g[0], g[1], g[2], std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) });
       }
     }
-    const std::vector<double> all = vtkARMeshKernels::GatherOnRoot(local);
+    const std::vector<double> all = vtkARParallel::GatherOnRoot(local);
     // [meet, angle, spread, fraction, axis 0, axis 1]: rank 0's, summed.
     double verdict[10] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
     const std::size_t n = all.size() / 4;
@@ -181,7 +182,7 @@ std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& cho
         std::copy(families.Axes[1], families.Axes[1] + 3, verdict + 7);
       }
     }
-    vtkARMeshKernels::AllReduceSum(verdict, 10);
+    vtkARParallel::AllReduceSum(verdict, 10);
     std::copy(verdict + 1, verdict + 4, &families[3 * j]);
     if (verdict[0] > 0.0)
     {
@@ -395,14 +396,14 @@ int vtkAdaptToShocks::ExecuteData(
   double header[2] = { sizeArray ? 1.0 : 0.0, sizeArray ? static_cast<double>(sizeArray->GetNumberOfTuples()) : 0.0 };
   header[0] = clusters->GetOutput()->GetPointData()->GetArray("FeatureMask") ? header[0] : -1.0;
   double missingMask = header[0] < 0.0 ? 1.0 : 0.0;
-  vtkARMeshKernels::AllReduceMax(header, 2);
-  vtkARMeshKernels::AllReduceMax(&missingMask, 1);
+  vtkARParallel::AllReduceMax(header, 2);
+  vtkARParallel::AllReduceMax(&missingMask, 1);
   std::vector<double> sizes(static_cast<std::size_t>(header[1]), 0.0);
   for (std::size_t k = 0; sizeArray && k < sizes.size(); ++k)
   {
     sizes[k] = sizeArray->GetComponent(static_cast<vtkIdType>(k), 0);
   }
-  vtkARMeshKernels::AllReduceSum(sizes.data(), static_cast<int>(sizes.size()));
+  vtkARParallel::AllReduceSum(sizes.data(), static_cast<int>(sizes.size()));
   if (missingMask > 0.0 || header[0] <= 0.0)
   {
     return passThrough("feature clustering could not run (see its message above).");
@@ -415,7 +416,7 @@ int vtkAdaptToShocks::ExecuteData(
     {
       shockCells += cells->GetComponent(c, 0);
     }
-    vtkARMeshKernels::AllReduceSum(&shockCells, 1);
+    vtkARParallel::AllReduceSum(&shockCells, 1);
     std::ostringstream msg;
     msg << "No shock found: the shock sensor marks " << shockCells
         << " shock cells, and no cluster of at least MinimumClusterSize (" << this->MinimumClusterSize
@@ -474,7 +475,7 @@ int vtkAdaptToShocks::ExecuteData(
     const double lowest = -std::numeric_limits<double>::max();
     double have[3] = { name && surface->GetNumberOfCells() > 0 ? 1.0 : 0.0, rms ? rms->GetComponent(0, 0) : lowest,
       edge ? edge->GetComponent(0, 0) : lowest };
-    vtkARMeshKernels::AllReduceMax(have, 3);
+    vtkARParallel::AllReduceMax(have, 3);
     measure = { have[1], have[2] };
     templateName = name ? name->GetValue(0) : "";
     vtkSmartPointer<vtkPolyData> copy;
@@ -591,7 +592,7 @@ int vtkAdaptToShocks::ExecuteData(
       {
         // (every rank decides the same: the surfaces live on rank 0 under MPI)
         double hit = ar::SurfacesIntersect(pts[j], tris[j], pts[i], tris[i]) ? 1.0 : 0.0;
-        vtkARMeshKernels::AllReduceMax(&hit, 1);
+        vtkARParallel::AllReduceMax(&hit, 1);
         if (hit > 0.0)
         {
           crossed = static_cast<int>(j);
@@ -660,7 +661,7 @@ int vtkAdaptToShocks::ExecuteData(
     {
       other = volume->GetCellType(c) != VTK_TETRA ? 1.0 : 0.0;
     }
-    vtkARMeshKernels::AllReduceMax(&other, 1);
+    vtkARParallel::AllReduceMax(&other, 1);
     if (other > 0.0)
     {
       alone = true;
@@ -699,7 +700,7 @@ int vtkAdaptToShocks::ExecuteData(
     }
     if (!widths.empty())
     {
-      vtkARMeshKernels::AllReduceMax(widths.data(), static_cast<int>(widths.size()));
+      vtkARParallel::AllReduceMax(widths.data(), static_cast<int>(widths.size()));
     }
     std::vector<double> positive;
     std::copy_if(widths.begin(), widths.end(), std::back_inserter(positive), [](double w) { return w > 0.0; });
@@ -731,7 +732,7 @@ int vtkAdaptToShocks::ExecuteData(
   double remeshed = adaptedVolume && adaptedVolume->GetCellData()->GetArray("Region") ? 1.0 : 0.0;
   if (alone)
   {
-    vtkARMeshKernels::AllReduceMax(&remeshed, 1); // rank 0's
+    vtkARParallel::AllReduceMax(&remeshed, 1); // rank 0's
   }
   if (remeshed == 0.0)
   {

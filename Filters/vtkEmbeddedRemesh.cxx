@@ -11,6 +11,8 @@
 #include "ARTetGeometry.h"
 #include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
+#include "vtkARFieldTransfer.h"
 
 #include "vtkAppendFilter.h"
 #include "vtkAppendPolyData.h"
@@ -250,7 +252,7 @@ int vtkEmbeddedRemesh::ExecuteData(
   it.TakeReference(input->NewTreeIterator());
   vtkNew<vtkUnstructuredGrid> remeshed;
   double missing = volume ? 0.0 : 1.0; // the distributed remesh is collective: all or none
-  vtkARMeshKernels::AllReduceMax(&missing, 1);
+  vtkARParallel::AllReduceMax(&missing, 1);
   if (volume && missing > 0.0)
   {
     vtkErrorMacro(<< "The multiblock input has no volume block on another rank; EmbeddedRemesh "
@@ -458,7 +460,7 @@ void InterpolateFromCavity(vtkUnstructuredGrid* input, vtkUnstructuredGrid* outp
     }
   }
   vtkSmartPointer<vtkUnstructuredGrid> cavity = CavityGrid(input, cavityCell);
-  vtkARMeshKernels::TetLocator locator;
+  vtkARFieldTransfer::TetLocator locator;
   locator.Build(cavity);
   std::vector<char> isNew(nOut, 0);
   std::vector<vtkIdType> startOf(nOut, -1);
@@ -469,7 +471,7 @@ void InterpolateFromCavity(vtkUnstructuredGrid* input, vtkUnstructuredGrid* outp
   }
   const vtkEmbeddedRemeshNewTuples found = vtkEmbeddedRemeshLocateNew(locator, output, isNew, startOf, sourceCell);
 
-  vtkARMeshKernels::TupleSources pointSources(nOut, 4), cellSources(nCellsOut, 1);
+  vtkARFieldTransfer::TupleSources pointSources(nOut, 4), cellSources(nCellsOut, 1);
   for (vtkIdType i = 0; i < nOut; ++i)
   {
     if (result.SourcePoint[i] >= 0)
@@ -492,8 +494,8 @@ void InterpolateFromCavity(vtkUnstructuredGrid* input, vtkUnstructuredGrid* outp
   {
     cellSources.Copy(found.Cells[q], cavityCell[found.CellIn[q]]);
   }
-  vtkARMeshKernels::TransferData(input->GetPointData(), output->GetPointData(), pointSources);
-  vtkARMeshKernels::TransferData(input->GetCellData(), output->GetCellData(), cellSources);
+  vtkARFieldTransfer::TransferData(input->GetPointData(), output->GetPointData(), pointSources);
+  vtkARFieldTransfer::TransferData(input->GetCellData(), output->GetCellData(), cellSources);
 }
 }
 
@@ -520,7 +522,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   {
     return passThrough(problem);
   }
-  if (vtkARMeshKernels::NumberOfRanks() > 1)
+  if (vtkARParallel::NumberOfRanks() > 1)
   {
     return this->RemeshDistributed(input, surfaces, output, embedded);
   }

@@ -8,6 +8,7 @@
 #include "ARCavity2D.h"
 #include "ARMeshSize.h"
 #include "vtkARMeshKernels.h"
+#include "vtkARFieldTransfer.h"
 
 #include "vtkAppendPolyData.h"
 #include "vtkCell.h"
@@ -814,7 +815,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       points->GetPoint(i, &where[3 * (i - nKeptPoints)]);
     }
     const LocatedPoints pointIn = LocateInCells(cellLocator, tol2, where, true);
-    vtkARMeshKernels::TupleSources pointSources(nOut, LocatedPoints::Width), cellSources(
+    vtkARFieldTransfer::TupleSources pointSources(nOut, LocatedPoints::Width), cellSources(
       static_cast<vtkIdType>(sourceCell.size()), 1);
     for (vtkIdType i = 0; i < nKeptPoints; ++i)
     {
@@ -830,8 +831,8 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     {
       cellSources.Copy(static_cast<vtkIdType>(k), sourceCell[k]);
     }
-    vtkARMeshKernels::TransferData(input->GetPointData(), outPD, pointSources);
-    vtkARMeshKernels::TransferData(input->GetCellData(), outCD, cellSources);
+    vtkARFieldTransfer::TransferData(input->GetPointData(), outPD, pointSources);
+    vtkARFieldTransfer::TransferData(input->GetCellData(), outCD, cellSources);
   }
   cells.Finish(layered);
   vtkEmbeddedRemeshSummary summary;

@@ -11,6 +11,8 @@
 #include "ARMeshSize.h"
 #include "ARTetGeometry.h"
 #include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
+#include "vtkARFieldTransfer.h"
 
 #include "vtkAppendFilter.h"
 #include "vtkCellData.h"
@@ -133,7 +135,7 @@ std::vector<double> DomainBoundary(const Piece& piece)
       }
     }
   }
-  return vtkEmbeddedRemeshAllGather(mine);
+  return vtkARParallel::AllGather(mine);
 }
 
 /// The cells gathered to rank 0: the cavity and three node rings of kept
@@ -161,7 +163,7 @@ std::vector<char> WithRings(const Piece& piece, const std::vector<char>& cavity)
         }
       }
     }
-    const std::vector<double> all = vtkEmbeddedRemeshAllGather(mine);
+    const std::vector<double> all = vtkARParallel::AllGather(mine);
     std::set<Coord> nodes;
     for (std::size_t k = 0; k < all.size(); k += 3)
     {
@@ -346,7 +348,7 @@ void InterpolateDistributed(vtkUnstructuredGrid* input, vtkUnstructuredGrid* G, 
   const auto nCellsOut = static_cast<vtkIdType>(cellSource.size());
   outPD->InterpolateAllocate(pointList, nOut);
   outCD->CopyAllocate(cellList, nCellsOut);
-  vtkARMeshKernels::TetLocator locator;
+  vtkARFieldTransfer::TetLocator locator;
   if (rank == 0 && G->GetNumberOfCells() > 0)
   {
     locator.Build(G);
@@ -363,8 +365,8 @@ void InterpolateDistributed(vtkUnstructuredGrid* input, vtkUnstructuredGrid* G, 
   const vtkEmbeddedRemeshNewTuples found = vtkEmbeddedRemeshLocateNew(locator, output, isNew, startOf, cellSource);
   // Each output tuple from the input (kept points and cells: list index 0)
   // or from G (rank 0's new ones: index 1).
-  vtkARMeshKernels::TupleSources pointsFromInput(nOut, 1), pointsFromG(nOut, 4);
-  vtkARMeshKernels::TupleSources cellsFromInput(nCellsOut, 1), cellsFromG(nCellsOut, 1);
+  vtkARFieldTransfer::TupleSources pointsFromInput(nOut, 1), pointsFromG(nOut, 4);
+  vtkARFieldTransfer::TupleSources cellsFromInput(nCellsOut, 1), cellsFromG(nCellsOut, 1);
   for (vtkIdType i = 0; i < nInputOut; ++i)
   {
     pointsFromInput.Copy(i, op.PointSource[i]);
@@ -391,12 +393,12 @@ void InterpolateDistributed(vtkUnstructuredGrid* input, vtkUnstructuredGrid* G, 
   {
     cellsFromG.Copy(found.Cells[q], found.CellIn[q]);
   }
-  vtkARMeshKernels::TransferData(pointList, 0, inPD, outPD, pointsFromInput);
-  vtkARMeshKernels::TransferData(cellList, 0, inCD, outCD, cellsFromInput);
+  vtkARFieldTransfer::TransferData(pointList, 0, inPD, outPD, pointsFromInput);
+  vtkARFieldTransfer::TransferData(cellList, 0, inCD, outCD, cellsFromInput);
   if (rank == 0)
   {
-    vtkARMeshKernels::TransferData(pointList, 1, G->GetPointData(), outPD, pointsFromG);
-    vtkARMeshKernels::TransferData(cellList, 1, G->GetCellData(), outCD, cellsFromG);
+    vtkARFieldTransfer::TransferData(pointList, 1, G->GetPointData(), outPD, pointsFromG);
+    vtkARFieldTransfer::TransferData(cellList, 1, G->GetCellData(), outCD, cellsFromG);
   }
   outPD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   outCD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
@@ -427,7 +429,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   std::string problem;
   auto failed = [&]() {
     double bad = problem.empty() ? 0.0 : 1.0;
-    vtkARMeshKernels::AllReduceMax(&bad, 1);
+    vtkARParallel::AllReduceMax(&bad, 1);
     return bad > 0.0;
   };
   auto passThrough = [&]() {
@@ -475,7 +477,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   const vtkIdType nPoints = piece.NumberOfPoints();
   const std::size_t nT = piece.NumberOfTetrahedra();
   double nOwned = static_cast<double>(std::count(piece.Owned.begin(), piece.Owned.end(), 1));
-  vtkARMeshKernels::AllReduceSum(&nOwned, 1);
+  vtkARParallel::AllReduceSum(&nOwned, 1);
   if (nOwned == 0)
   {
     problem = "The volume mesh is empty.";
@@ -516,7 +518,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     }
   }
   summary.VolumeBefore = volumes[1];
-  vtkARMeshKernels::AllReduceSum(volumes, 1);
+  vtkARParallel::AllReduceSum(volumes, 1);
   {
     double area = 0.0, diagonal = 0.0;
     vtkEmbeddedRemeshSurfaceAreaAndDiagonal(s, area, diagonal);
@@ -564,7 +566,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     }
   }
   double nCavity = static_cast<double>(std::count(cavity.begin(), cavity.end(), 1));
-  vtkARMeshKernels::AllReduceSum(&nCavity, 1);
+  vtkARParallel::AllReduceSum(&nCavity, 1);
   if (nCavity == 0)
   {
     problem = "EmbeddedRemesh: no node of the volume mesh lies near the feature surface: nothing to remesh.";

@@ -11,6 +11,9 @@
 #include "ARSurfaceRemesh.h"
 #include "ARTetGeometry.h"
 #include "vtkARInputChecks.h"
+#include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
+#include "vtkARFieldTransfer.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkAppendPolyData.h"
@@ -266,8 +269,8 @@ void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
   double sums[8] = { q.NewCells, q.NewDihedralSum, q.NonPositiveJacobian, q.LayerCells, q.NewPrisms,
     q.NewPyramids, q.NewLayerTetrahedra, q.NewLayerHexahedra };
   double maxima[4] = { -q.NewMinDihedral, q.NewMaxAspectRatio, q.LayerMaxAspectRatio, -q.LayerMinDihedral };
-  vtkARMeshKernels::AllReduceSum(sums, 8);
-  vtkARMeshKernels::AllReduceMax(maxima, 4);
+  vtkARParallel::AllReduceSum(sums, 8);
+  vtkARParallel::AllReduceMax(maxima, 4);
   q.NewCells = sums[0];
   q.NewDihedralSum = sums[1];
   q.NonPositiveJacobian = sums[2];
@@ -491,53 +494,10 @@ void vtkEmbeddedRemeshAddLayerFields(
 }
 
 //------------------------------------------------------------------------------
-namespace
-{
-/// Doubles from every rank, concatenated in rank order, on every rank.
-std::vector<double> AllGatherDoubles(const std::vector<double>& local)
-{
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
-  if (vtkARMeshKernels::NumberOfRanks() <= 1 || !ctrl)
-  {
-    return local;
-  }
-  vtkNew<vtkDoubleArray> send, recv;
-  send->SetNumberOfTuples(static_cast<vtkIdType>(local.size()));
-  std::copy(local.begin(), local.end(), send->GetPointer(0));
-  ctrl->AllGatherV(send, recv);
-  return std::vector<double>(recv->GetPointer(0), recv->GetPointer(0) + recv->GetNumberOfTuples());
-}
-
-/// Rank 0's values on every rank (doubles; integers travel as doubles).
-template <typename T>
-void BroadcastFromRoot(std::vector<T>& data)
-{
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
-  if (vtkARMeshKernels::NumberOfRanks() <= 1 || !ctrl)
-  {
-    return;
-  }
-  std::vector<double> values(data.begin(), data.end());
-  vtkIdType n = static_cast<vtkIdType>(values.size());
-  ctrl->Broadcast(&n, 1, 0);
-  values.resize(n);
-  if (n > 0)
-  {
-    ctrl->Broadcast(values.data(), n, 0);
-  }
-  data.assign(values.begin(), values.end());
-}
-}
-
 void vtkEmbeddedRemeshBroadcast(vtkEmbeddedRemeshSoup& soup)
 {
-  BroadcastFromRoot(soup.Points);
-  BroadcastFromRoot(soup.Triangles);
-}
-
-std::vector<double> vtkEmbeddedRemeshAllGather(const std::vector<double>& local)
-{
-  return AllGatherDoubles(local);
+  vtkARParallel::BroadcastFromRoot(soup.Points);
+  vtkARParallel::BroadcastFromRoot(soup.Triangles);
 }
 
 //------------------------------------------------------------------------------
@@ -546,7 +506,7 @@ vtkEmbeddedRemeshSoup vtkEmbeddedRemeshCollectSurfaces(const std::vector<vtkData
   vtkEmbeddedRemeshSoup soup;
   vtkNew<vtkAppendPolyData> append;
   AddSurfaceTriangles(surfaces, append);
-  const bool distributed = vtkARMeshKernels::NumberOfRanks() > 1;
+  const bool distributed = vtkARParallel::NumberOfRanks() > 1;
   vtkSmartPointer<vtkPolyData> merged;
   if (distributed)
   {
@@ -556,7 +516,7 @@ vtkEmbeddedRemeshSoup vtkEmbeddedRemeshCollectSurfaces(const std::vector<vtkData
       append->Update();
       local->ShallowCopy(append->GetOutput());
     }
-    merged = vtkARMeshKernels::GatherPolyData(local, 0.0, false); // rank 0 holds the union
+    merged = vtkARParallel::GatherPolyData(local, 0.0, false); // rank 0 holds the union
   }
   else if (append->GetNumberOfInputConnections(0) > 0)
   {
@@ -588,8 +548,8 @@ vtkEmbeddedRemeshSoup vtkEmbeddedRemeshCollectSurfaces(const std::vector<vtkData
   }
   if (distributed)
   {
-    BroadcastFromRoot(soup.Points);
-    BroadcastFromRoot(soup.Triangles);
+    vtkARParallel::BroadcastFromRoot(soup.Points);
+    vtkARParallel::BroadcastFromRoot(soup.Triangles);
   }
   return soup;
 }
@@ -638,7 +598,7 @@ double vtkEmbeddedRemeshInputSizeAt(const double* nodes, vtkIdType nNodes, int d
       }
     }
   }
-  const std::vector<double> all = AllGatherDoubles(mine); // rank order
+  const std::vector<double> all = vtkARParallel::AllGather(mine); // rank order
   std::vector<double> near;
   for (std::size_t i = 0; i < nQuery; ++i)
   {
@@ -805,7 +765,7 @@ void vtkEmbeddedRemeshCells::Finish(bool layerArrays)
 }
 
 //------------------------------------------------------------------------------
-vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARMeshKernels::TetLocator& locator,
+vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARFieldTransfer::TetLocator& locator,
   vtkUnstructuredGrid* output, const std::vector<char>& isNew, const std::vector<vtkIdType>& startOf,
   const std::vector<vtkIdType>& cellSource)
 {
@@ -875,7 +835,7 @@ vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARMeshKernels::Te
 //------------------------------------------------------------------------------
 void vtkEmbeddedRemeshSummary::Reduce()
 {
-  if (vtkARMeshKernels::NumberOfRanks() <= 1)
+  if (vtkARParallel::NumberOfRanks() <= 1)
   {
     return;
   }
@@ -883,7 +843,7 @@ void vtkEmbeddedRemeshSummary::Reduce()
     this->SurfaceElements, this->SurfaceTrianglesAtLockedCells, this->LimitedColumns, this->PatchTrianglesNew,
     this->VolumeBefore, this->VolumeAfter };
   constexpr int nSums = sizeof(sums) / sizeof(sums[0]);
-  vtkARMeshKernels::AllReduceSum(sums, nSums);
+  vtkARParallel::AllReduceSum(sums, nSums);
   double* s = sums;
   for (double* v : { &this->KeptCells, &this->NewCells, &this->InputNodes, &this->NewNodes, &this->RemovedNodes,
          &this->SurfaceElements, &this->SurfaceTrianglesAtLockedCells, &this->LimitedColumns,
@@ -899,7 +859,7 @@ void vtkEmbeddedRemeshSummary::Reduce()
   {
     maxima.push_back(t.second);
   }
-  vtkARMeshKernels::AllReduceMax(maxima.data(), static_cast<int>(maxima.size()));
+  vtkARParallel::AllReduceMax(maxima.data(), static_cast<int>(maxima.size()));
   this->SurfaceEdgeLength = maxima[0];
   this->InputSize = maxima[1];
   this->OutputSize = maxima[2];

@@ -19,7 +19,8 @@
 #ifndef vtkEmbeddedRemeshStages_h
 #define vtkEmbeddedRemeshStages_h
 
-#include "vtkARMeshKernels.h"
+#include "vtkARFieldTransfer.h"
+#include "vtkARFieldTransfer.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkType.h"
@@ -158,10 +159,6 @@ void vtkEmbeddedRemeshSurfaceAreaAndDiagonal(const vtkEmbeddedRemeshSoup& soup, 
 /// Under MPI: rank 0's soup on every rank (nothing in serial). Collective.
 void vtkEmbeddedRemeshBroadcast(vtkEmbeddedRemeshSoup& soup);
 
-/// Under MPI: every rank's doubles, concatenated in rank order, on every
-/// rank (`local` itself in serial). Collective.
-std::vector<double> vtkEmbeddedRemeshAllGather(const std::vector<double>& local);
-
 /// The input's size at S: the median, over the `nQuery` points `query`
 /// (S's points; `dim` 2 or 3 coordinates each), of l_v (the longest edge at
 /// the node, `lv`) at the node nearest to the point. The nodes are the
@@ -242,7 +239,7 @@ struct vtkEmbeddedRemeshNewTuples
 /// `isNew[i]`: output point i needs locating; `startOf[i]`: for a point that
 /// does not, a locator cell at it (-1: none) from which its cells' centres
 /// are walked; `cellSource`: the output cells' sources (-1: new).
-vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARMeshKernels::TetLocator& locator,
+vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARFieldTransfer::TetLocator& locator,
   vtkUnstructuredGrid* output, const std::vector<char>& isNew, const std::vector<vtkIdType>& startOf,
   const std::vector<vtkIdType>& cellSource);
 

@@ -4,6 +4,7 @@
 #include "vtkARInputChecks.h"
 #include "vtkARVolumeFilterExecution.h"
 #include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCellType.h"
@@ -248,9 +249,9 @@ int vtkFeatureCluster::Execute(Execution& run)
         counts[1] += 1.0;
       }
     }
-    vtkARMeshKernels::AllReduceSum(counts, 2);
+    vtkARParallel::AllReduceSum(counts, 2);
     double span[2] = { -st.SensorSpan[0], st.SensorSpan[1] };
-    vtkARMeshKernels::AllReduceMax(span, 2);
+    vtkARParallel::AllReduceMax(span, 2);
     if (problem.str().empty() && counts[1] > 0.0 && counts[0] == counts[1])
     {
       problem << "SensorRange [" << st.Lo << ", " << st.Hi << "] selects every node (" << counts[0] << " of "

@@ -4,6 +4,7 @@
 #include "ARMedialAxis.h"
 #include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
 
 #include "vtkCellArray.h"
 #include "vtkCallbackCommand.h"
@@ -335,10 +336,10 @@ int vtkMedialAxisDelaunay::RequestData(
   // Both ranks interpolate the contour points on the edges of their shared
   // faces, which can differ in the last bits: merge within 1e-9 of the
   // bounding-box diagonal.
-  st.Surface = vtkARMeshKernels::GatherPolyData(LocalSurface(input), 1e-9, false);
+  st.Surface = vtkARParallel::GatherPolyData(LocalSurface(input), 1e-9, false);
   if (st.HasDomain)
   {
-    st.Boundary = vtkARMeshKernels::GatherDomainBoundary(domain);
+    st.Boundary = vtkARParallel::GatherDomainBoundary(domain);
   }
   if (!root)
   {

@@ -4,6 +4,7 @@
 #include "ARSurfaceFit.h"
 #include "vtkARInputChecks.h"
 #include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
 
 #include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
@@ -234,7 +235,7 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
       acc[m + i] = 1.0;
     }
   }
-  vtkARMeshKernels::AllReduceSum(acc.data(), static_cast<int>(acc.size()));
+  vtkARParallel::AllReduceSum(acc.data(), static_cast<int>(acc.size()));
   std::vector<double> out(m, std::numeric_limits<double>::quiet_NaN());
   for (vtkIdType i = 0; i < m; ++i)
   {
@@ -595,8 +596,8 @@ int vtkQuadricFit::ExecuteData(
   }
   double status[7] = { flags[0], flags[1], flags[2], flags[3], flags[4], flags[5],
     problem.str().empty() ? 0.0 : 1.0 };
-  vtkARMeshKernels::AllReduceSum(status, 1);
-  vtkARMeshKernels::AllReduceMax(status + 1, 6);
+  vtkARParallel::AllReduceSum(status, 1);
+  vtkARParallel::AllReduceMax(status + 1, 6);
   if (status[6] > 0.0)
   {
     if (!problem.str().empty())
@@ -605,11 +606,11 @@ int vtkQuadricFit::ExecuteData(
     }
     return 1;
   }
-  const std::vector<double> packed = vtkARMeshKernels::GatherOnRoot(local);
+  const std::vector<double> packed = vtkARParallel::GatherOnRoot(local);
   vtkSmartPointer<vtkPolyData> boundary;
   if (hasDomain)
   {
-    boundary = vtkARMeshKernels::GatherDomainBoundary(domain);
+    boundary = vtkARParallel::GatherDomainBoundary(domain);
   }
   // ShockCentring under MPI: rank 0 sends its lines through the points (or
   // none), and every rank probes its piece of the domain along them.

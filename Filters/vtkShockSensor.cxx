@@ -4,6 +4,7 @@
 #include "vtkARInputChecks.h"
 #include "vtkARVolumeFilterExecution.h"
 #include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
 #include "vtkCellData.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
@@ -477,7 +478,7 @@ void vtkShockSensor::ResolveGasConstant(Execution& run, FlowState& st)
     }
     // The same on every rank (each rank's median, the largest: documented
     // as the one reduction here that is not the serial run's bit for bit).
-    vtkARMeshKernels::AllReduceMax(&fromData, 1);
+    vtkARParallel::AllReduceMax(&fromData, 1);
     vtkDataArray* field = input->GetFieldData() ? input->GetFieldData()->GetArray("GasConstant") : nullptr;
     const double fromField = field && field->GetNumberOfTuples() > 0 ? field->GetComponent(0, 0) : 0.0;
     if (fromData > 0.0)
@@ -546,7 +547,7 @@ bool vtkShockSensor::ToPrimitiveState(Execution& run, FlowState& st)
     }
   });
   double derivedBad = badPressure >= 0 ? 1.0 : 0.0;
-  vtkARMeshKernels::AllReduceMax(&derivedBad, 1);
+  vtkARParallel::AllReduceMax(&derivedBad, 1);
   if (badPressure >= 0)
   {
     vtkErrorMacro(<< "The pressure derived from the conserved variables, (Gamma - 1)(rhoE - "
@@ -595,7 +596,7 @@ bool vtkShockSensor::PressureGradient(Execution& run, FlowState& st)
     },
     st.GradP, this);
   double abortFlag = ok ? 0.0 : 1.0;
-  vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
+  vtkARParallel::AllReduceMax(&abortFlag, 1);
   if (abortFlag > 0.0)
   {
     return false;
@@ -645,7 +646,7 @@ void vtkShockSensor::PointQuantities(Execution& run, FlowState& st)
   {
     st.GradMax = std::max(st.GradMax, m);
   }
-  vtkARMeshKernels::AllReduceMax(&st.GradMax, 1);
+  vtkARParallel::AllReduceMax(&st.GradMax, 1);
 
   // The output Mn is 0 where |grad p| is below the threshold: there the
   // direction of grad p, and Mn with it, is noise (round-off in a uniform

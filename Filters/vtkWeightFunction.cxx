@@ -6,6 +6,7 @@
 #include "vtkARInputChecks.h"
 #include "vtkARVolumeFilterExecution.h"
 #include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
 #include "vtkCellData.h"
 #include "vtkNew.h"
 #include "vtkStringArray.h"
@@ -390,12 +391,12 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
   double bounds[6];
   input->GetBounds(bounds);
   double extent[6] = { -bounds[0], bounds[1], -bounds[2], bounds[3], -bounds[4], bounds[5] };
-  vtkARMeshKernels::AllReduceMax(rMax.data(), 3 * st.NumberOfColumns);
-  vtkARMeshKernels::AllReduceMax(extent, 6);
+  vtkARParallel::AllReduceMax(rMax.data(), 3 * st.NumberOfColumns);
+  vtkARParallel::AllReduceMax(extent, 6);
   const double L = std::sqrt((extent[1] + extent[0]) * (extent[1] + extent[0]) +
     (extent[3] + extent[2]) * (extent[3] + extent[2]) + (extent[5] + extent[4]) * (extent[5] + extent[4]));
   double abortFlag = aborted ? 1.0 : 0.0;
-  vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
+  vtkARParallel::AllReduceMax(&abortFlag, 1);
   if (abortFlag > 0.0)
   {
     output->ShallowCopy(input);
@@ -455,9 +456,9 @@ bool vtkWeightFunction::ComputeWeights(Execution& run, WeightState& st)
   {
     st.WMax = std::max(st.WMax, m);
   }
-  vtkARMeshKernels::AllReduceMax(&st.WMax, 1);
+  vtkARParallel::AllReduceMax(&st.WMax, 1);
   abortFlag = aborted ? 1.0 : 0.0;
-  vtkARMeshKernels::AllReduceMax(&abortFlag, 1);
+  vtkARParallel::AllReduceMax(&abortFlag, 1);
   if (abortFlag > 0.0)
   {
     output->ShallowCopy(input);

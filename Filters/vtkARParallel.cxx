@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkARParallel.h"
+
+#include "vtkAppendPolyData.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCommunicator.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkGeometryFilter.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStaticCleanPolyData.h"
+#include "vtkTriangleFilter.h"
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <numeric>
+
+//------------------------------------------------------------------------------
+int vtkARParallel::NumberOfRanks()
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  return ctrl ? ctrl->GetNumberOfProcesses() : 1;
+}
+
+void vtkARParallel::AllReduceMax(double* values, int n)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (ctrl && ctrl->GetNumberOfProcesses() > 1 && n > 0)
+  {
+    std::vector<double> local(values, values + n);
+    ctrl->AllReduce(local.data(), values, n, vtkCommunicator::MAX_OP);
+  }
+}
+
+void vtkARParallel::AllReduceSum(double* values, int n)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (ctrl && ctrl->GetNumberOfProcesses() > 1 && n > 0)
+  {
+    std::vector<double> local(values, values + n);
+    ctrl->AllReduce(local.data(), values, n, vtkCommunicator::SUM_OP);
+  }
+}
+
+std::vector<double> vtkARParallel::GatherOnRoot(const std::vector<double>& local)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (!ctrl || ctrl->GetNumberOfProcesses() < 2)
+  {
+    return local;
+  }
+  const int np = ctrl->GetNumberOfProcesses();
+  double mine = static_cast<double>(local.size());
+  std::vector<double> counts(np, 0.0);
+  ctrl->Gather(&mine, counts.data(), 1, 0);
+  std::vector<vtkIdType> lengths(np, 0), offsets(np, 0);
+  vtkIdType total = 0;
+  for (int r = 0; r < np; ++r)
+  {
+    lengths[r] = static_cast<vtkIdType>(counts[r]);
+    offsets[r] = total;
+    total += lengths[r];
+  }
+  std::vector<double> all(ctrl->GetLocalProcessId() == 0 ? total : 0);
+  ctrl->GatherV(local.data(), all.data(), static_cast<vtkIdType>(local.size()), lengths.data(),
+    offsets.data(), 0);
+  return all;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+/// The boundary surface of this rank's piece of the domain, as triangles.
+vtkSmartPointer<vtkPolyData> BoundarySurface(vtkDataSet* domain)
+{
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  if (!domain || domain->GetNumberOfCells() == 0)
+  {
+    return surface;
+  }
+  vtkNew<vtkGeometryFilter> geometry; // drops faces between owned and ghost cells
+  geometry->SetInputData(domain);
+  vtkNew<vtkTriangleFilter> triangles;
+  triangles->SetInputConnection(geometry->GetOutputPort());
+  triangles->PassVertsOff();
+  triangles->PassLinesOff();
+  triangles->Update();
+  surface->ShallowCopy(triangles->GetOutput());
+  surface->GetPointData()->Initialize();
+  surface->GetCellData()->Initialize();
+  return surface;
+}
+}
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkPolyData> vtkARParallel::GatherPolyData(
+  vtkPolyData* local, double tolerance, bool dropSharedTriangles)
+{
+  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
+  vtkMultiProcessController* ctrl = (c && c->GetNumberOfProcesses() > 1) ? c : nullptr;
+  if (!ctrl)
+  {
+    return local;
+  }
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  ctrl->Gather(local, pieces, 0);
+  auto result = vtkSmartPointer<vtkPolyData>::New();
+  if (ctrl->GetLocalProcessId() != 0)
+  {
+    return result;
+  }
+  vtkNew<vtkAppendPolyData> append;
+  for (auto& piece : pieces)
+  {
+    auto* pd = vtkPolyData::SafeDownCast(piece);
+    if (pd && pd->GetNumberOfCells() > 0)
+    {
+      append->AddInputData(pd);
+    }
+  }
+  if (append->GetNumberOfInputConnections(0) == 0)
+  {
+    return result;
+  }
+  vtkNew<vtkStaticCleanPolyData> merge;
+  merge->SetInputConnection(append->GetOutputPort());
+  merge->ToleranceIsAbsoluteOff();
+  merge->SetTolerance(tolerance);
+  merge->Update();
+  vtkPolyData* merged = merge->GetOutput();
+  // Per triangle (sorted corners): how often it comes with each orientation.
+  // A face between two pieces comes twice with opposite orientations (each
+  // side's outward face); a piece that every rank holds whole (a replicated
+  // dataset) gives copies with the same orientation.
+  auto keyOf = [](const vtkIdType* ids, int& parity) {
+    std::array<vtkIdType, 3> key = { ids[0], ids[1], ids[2] };
+    // The parity of the permutation that sorts the corners.
+    parity = 0;
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = i + 1; j < 3; ++j)
+      {
+        parity ^= key[i] > key[j] ? 1 : 0;
+      }
+    }
+    std::sort(key.begin(), key.end());
+    return key;
+  };
+  std::map<std::array<vtkIdType, 3>, std::array<int, 2>> count;
+  vtkIdType npts;
+  const vtkIdType* ids;
+  vtkCellArray* polys = merged->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    if (npts == 3)
+    {
+      int parity;
+      const auto key = keyOf(ids, parity);
+      ++count[key][parity];
+    }
+  }
+  vtkNew<vtkCellArray> kept;
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    if (npts != 3)
+    {
+      kept->InsertNextCell(npts, ids);
+      continue;
+    }
+    int parity;
+    const auto key = keyOf(ids, parity);
+    std::array<int, 2>& n = count[key];
+    const bool interface = n[0] > 0 && n[1] > 0;
+    if (dropSharedTriangles && interface)
+    {
+      continue;
+    }
+    if (n[0] + n[1] > 0)
+    {
+      kept->InsertNextCell(3, ids); // the first copy
+    }
+    n = { 0, 0 };
+  }
+  result->ShallowCopy(merged);
+  result->SetPolys(kept);
+  return result;
+}
+
+vtkSmartPointer<vtkPolyData> vtkARParallel::GatherDomainBoundary(vtkDataSet* domain)
+{
+  // Faces between two pieces (distributed without ghost cells) appear once
+  // from each side: after merging coincident points they are dropped.
+  return GatherPolyData(BoundarySurface(domain), 0.0, true);
+}
+
+
+//------------------------------------------------------------------------------
+std::vector<double> vtkARParallel::AllGather(const std::vector<double>& local)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (NumberOfRanks() <= 1 || !ctrl)
+  {
+    return local;
+  }
+  vtkNew<vtkDoubleArray> send, recv;
+  send->SetNumberOfTuples(static_cast<vtkIdType>(local.size()));
+  std::copy(local.begin(), local.end(), send->GetPointer(0));
+  ctrl->AllGatherV(send, recv);
+  return std::vector<double>(recv->GetPointer(0), recv->GetPointer(0) + recv->GetNumberOfTuples());
+}
+
+void vtkARParallel::BroadcastFromRoot(std::vector<double>& data)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (NumberOfRanks() <= 1 || !ctrl)
+  {
+    return;
+  }
+  vtkIdType n = static_cast<vtkIdType>(data.size());
+  ctrl->Broadcast(&n, 1, 0);
+  data.resize(n);
+  if (n > 0)
+  {
+    ctrl->Broadcast(data.data(), n, 0);
+  }
+}
+
+void vtkARParallel::BroadcastFromRoot(std::vector<std::int64_t>& data)
+{
+  std::vector<double> values(data.begin(), data.end());
+  BroadcastFromRoot(values);
+  data.assign(values.begin(), values.end());
+}

@@ -479,10 +479,6 @@ void InterpolateFromCavity(vtkUnstructuredGrid* input, vtkUnstructuredGrid* outp
       pointSources.Copy(i, result.SourcePoint[i]);
     }
   }
-  for (std::size_t q = 0; q < found.Points.size(); ++q)
-  {
-    pointSources.Interpolate(found.Points[q], locator.CellPoints(found.PointIn[q]), &found.Weights[4 * q]);
-  }
   for (vtkIdType k = 0; k < nCellsOut; ++k)
   {
     if (sourceCell[k] >= 0)
@@ -490,10 +486,7 @@ void InterpolateFromCavity(vtkUnstructuredGrid* input, vtkUnstructuredGrid* outp
       cellSources.Copy(k, sourceCell[k]);
     }
   }
-  for (std::size_t q = 0; q < found.Cells.size(); ++q)
-  {
-    cellSources.Copy(found.Cells[q], cavityCell[found.CellIn[q]]);
-  }
+  found.Fill(locator, pointSources, cellSources, &cavityCell);
   vtkARFieldTransfer::TransferData(input->GetPointData(), output->GetPointData(), pointSources);
   vtkARFieldTransfer::TransferData(input->GetCellData(), output->GetCellData(), cellSources);
 }
@@ -667,23 +660,11 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   summary.InputNodes = static_cast<double>(nPoints);
   summary.OutputNodes = static_cast<double>(nOut);
   summary.NewNodes = static_cast<double>(nOut - keptPoints);
-  summary.RemovedNodes = static_cast<double>(result.RemovedNodes);
-  summary.SurfaceElements = static_cast<double>(result.Surface.size() / 3);
-  summary.SurfaceTrianglesAtLockedCells = static_cast<double>(result.SurfaceTrianglesAtLockedCells);
+  summary.AddRefill(result);
   summary.SurfaceEdgeLength = edge;
   summary.InputSize = inputSize;
-  summary.OutputSize = vtkEmbeddedRemeshOutputSizeAtSurface(result);
-  summary.LimitedColumns = static_cast<double>(result.LimitedColumns);
-  summary.RefillAttempts = result.RefillAttempts;
   summary.VolumeBefore = before.TotalVolume;
   summary.VolumeAfter = cells.VolumeAfter;
-  for (const auto& [name, seconds] : { std::make_pair("SecondsSetup", result.Seconds.Setup),
-         std::make_pair("SecondsRemoval", result.Seconds.Removal), std::make_pair("SecondsCavity", result.Seconds.Cavity),
-         std::make_pair("SecondsLayers", result.Seconds.Layers), std::make_pair("SecondsRefill", result.Seconds.Refill),
-         std::make_pair("SecondsAssembly", result.Seconds.Assembly) })
-  {
-    summary.Seconds.emplace_back(name, seconds);
-  }
   summary.Write(output, options.Layers);
   vtkEmbeddedRemeshSetEmbedded(embedded, points, result.Surface, nullptr);
   this->UpdateProgress(1.0);

@@ -378,10 +378,6 @@ void InterpolateDistributed(vtkUnstructuredGrid* input, vtkUnstructuredGrid* G, 
       pointsFromG.Copy(i, op.GSource[i - nInputOut]);
     }
   }
-  for (std::size_t q = 0; q < found.Points.size(); ++q)
-  {
-    pointsFromG.Interpolate(found.Points[q], locator.CellPoints(found.PointIn[q]), &found.Weights[4 * q]);
-  }
   for (vtkIdType k = 0; k < nCellsOut; ++k)
   {
     if (cellSource[k] >= 0)
@@ -389,10 +385,7 @@ void InterpolateDistributed(vtkUnstructuredGrid* input, vtkUnstructuredGrid* G, 
       cellsFromInput.Copy(k, cellSource[k]);
     }
   }
-  for (std::size_t q = 0; q < found.Cells.size(); ++q)
-  {
-    cellsFromG.Copy(found.Cells[q], found.CellIn[q]);
-  }
+  found.Fill(locator, pointsFromG, cellsFromG, nullptr);
   vtkARFieldTransfer::TransferData(pointList, 0, inPD, outPD, pointsFromInput);
   vtkARFieldTransfer::TransferData(cellList, 0, inCD, outCD, cellsFromInput);
   if (rank == 0)
@@ -691,22 +684,10 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   summary.NewCells = static_cast<double>(cells.NumberOfNew());
   summary.InputNodes = OwnedInputNodes(input);
   summary.NewNodes = op.NewNodes;
-  summary.RemovedNodes = static_cast<double>(result.RemovedNodes); // rank 0's refill; 0 elsewhere
-  summary.SurfaceElements = static_cast<double>(result.Surface.size() / 3);
-  summary.SurfaceTrianglesAtLockedCells = static_cast<double>(result.SurfaceTrianglesAtLockedCells);
+  summary.AddRefill(result); // rank 0's refill; nothing elsewhere
   summary.SurfaceEdgeLength = edge;
   summary.InputSize = inputSize;
-  summary.OutputSize = vtkEmbeddedRemeshOutputSizeAtSurface(result);
-  summary.LimitedColumns = static_cast<double>(result.LimitedColumns);
-  summary.RefillAttempts = result.RefillAttempts;
   summary.VolumeAfter = cells.VolumeAfter;
-  for (const auto& [name, seconds] : { std::make_pair("SecondsSetup", result.Seconds.Setup),
-         std::make_pair("SecondsRemoval", result.Seconds.Removal), std::make_pair("SecondsCavity", result.Seconds.Cavity),
-         std::make_pair("SecondsLayers", result.Seconds.Layers), std::make_pair("SecondsRefill", result.Seconds.Refill),
-         std::make_pair("SecondsAssembly", result.Seconds.Assembly) })
-  {
-    summary.Seconds.emplace_back(name, seconds);
-  }
   summary.Reduce();
   summary.Write(output, options.Layers);
   if (rank == 0)

@@ -832,7 +832,38 @@ vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARFieldTransfer::
   return n;
 }
 
+void vtkEmbeddedRemeshNewTuples::Fill(const vtkARFieldTransfer::TetLocator& locator,
+  vtkARFieldTransfer::TupleSources& points, vtkARFieldTransfer::TupleSources& cells,
+  const std::vector<vtkIdType>* cellOf) const
+{
+  for (std::size_t q = 0; q < this->Points.size(); ++q)
+  {
+    points.Interpolate(this->Points[q], locator.CellPoints(this->PointIn[q]), &this->Weights[4 * q]);
+  }
+  for (std::size_t q = 0; q < this->Cells.size(); ++q)
+  {
+    cells.Copy(this->Cells[q], cellOf ? (*cellOf)[this->CellIn[q]] : this->CellIn[q]);
+  }
+}
+
 //------------------------------------------------------------------------------
+void vtkEmbeddedRemeshSummary::AddRefill(const ar::CavityRemesh& result)
+{
+  this->RemovedNodes = static_cast<double>(result.RemovedNodes);
+  this->SurfaceElements = static_cast<double>(result.Surface.size() / 3);
+  this->SurfaceTrianglesAtLockedCells = static_cast<double>(result.SurfaceTrianglesAtLockedCells);
+  this->OutputSize = vtkEmbeddedRemeshOutputSizeAtSurface(result);
+  this->LimitedColumns = static_cast<double>(result.LimitedColumns);
+  this->RefillAttempts = result.RefillAttempts;
+  for (const auto& [name, seconds] : { std::make_pair("SecondsSetup", result.Seconds.Setup),
+         std::make_pair("SecondsRemoval", result.Seconds.Removal), std::make_pair("SecondsCavity", result.Seconds.Cavity),
+         std::make_pair("SecondsLayers", result.Seconds.Layers), std::make_pair("SecondsRefill", result.Seconds.Refill),
+         std::make_pair("SecondsAssembly", result.Seconds.Assembly) })
+  {
+    this->Seconds.emplace_back(name, seconds);
+  }
+}
+
 void vtkEmbeddedRemeshSummary::Reduce()
 {
   if (vtkARParallel::NumberOfRanks() <= 1)

@@ -235,6 +235,11 @@ struct vtkEmbeddedRemeshNewTuples
   std::vector<double> Weights;    ///< 4 per new point
   std::vector<vtkIdType> Cells;   ///< the new output cells (source -1)
   std::vector<vtkIdType> CellIn;  ///< the locator's cell holding each one's centre
+  /// The new points interpolated in their cells, the new cells copies of
+  /// the cell holding their centre (through `cellOf`, locator cell -> source
+  /// tuple; null: the same ids).
+  void Fill(const vtkARFieldTransfer::TetLocator& locator, vtkARFieldTransfer::TupleSources& points,
+    vtkARFieldTransfer::TupleSources& cells, const std::vector<vtkIdType>* cellOf) const;
 };
 /// `isNew[i]`: output point i needs locating; `startOf[i]`: for a point that
 /// does not, a locator cell at it (-1: none) from which its cells' centres
@@ -269,6 +274,10 @@ struct vtkEmbeddedRemeshSummary
   vtkEmbeddedRemeshQuality Quality;
   /// Stage timings, wall-clock seconds (the maximum over the ranks).
   std::vector<std::pair<std::string, double>> Seconds;
+  /// The core's figures: RemovedNodes, S's triangles (and those dropped at
+  /// locked cells), the output's size at S, LimitedColumns, RefillAttempts
+  /// and the core's stage timings.
+  void AddRefill(const ar::CavityRemesh& result);
   /// Under MPI: sums of the counts and volumes, the maximum of the sizes
   /// (rank 0 has S) and of the timings, the quality reduced; OutputNodes
   /// from the reduced counts.

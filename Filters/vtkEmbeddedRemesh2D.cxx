@@ -40,6 +40,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
@@ -313,24 +314,103 @@ bool vtkEmbeddedRemeshDetect2D(vtkUnstructuredGrid* input, vtkEmbeddedRemeshLayo
 }
 
 //------------------------------------------------------------------------------
-int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRemeshLayout& layout,
-  const std::vector<vtkDataSet*>& surfaces, vtkUnstructuredGrid* output, vtkPolyData* embedded,
-  vtkEmbeddedRemeshPlanes* planes)
+namespace
 {
-  auto passThrough = [&](const std::string& message) {
-    vtkErrorMacro(<< "EmbeddedRemesh (2-D mode): " << message << " The input passes through unchanged.");
-    output->ShallowCopy(input);
-    embedded->Initialize();
-    return 1;
-  };
-  const int axis = layout.Axis, U = (axis + 1) % 3, V = (axis + 2) % 3;
-  const double mid = 0.5 * (layout.Lo + layout.Hi);
-  const vtkIdType nPoints = input->GetNumberOfPoints();
-  const std::size_t nVolume = layout.VolumeCells.size();
+/// The 2-D mode's run: the stages of vtkEmbeddedRemesh::Remesh2D over the
+/// state they share (as CavityRun in ARCavity.cxx; file-local, so its
+/// members keep the names the stages had as locals). Each stage returns
+/// false with Problem set when the input cannot be remeshed.
+class Remesh2DRun
+{
+public:
+  Remesh2DRun(vtkEmbeddedRemesh* self_, vtkUnstructuredGrid* input_, const vtkEmbeddedRemeshLayout& layout_,
+    const std::vector<vtkDataSet*>& surfaces_, vtkUnstructuredGrid* output_, vtkPolyData* embedded_,
+    vtkEmbeddedRemeshPlanes* planes_)
+    : self(self_)
+    , input(input_)
+    , layout(layout_)
+    , surfaces(surfaces_)
+    , output(output_)
+    , embedded(embedded_)
+    , planes(planes_)
+    , axis(layout_.Axis)
+    , U((layout_.Axis + 1) % 3)
+    , V((layout_.Axis + 2) % 3)
+    , mid(0.5 * (layout_.Lo + layout_.Hi))
+    , nPoints(input_->GetNumberOfPoints())
+    , nVolume(layout_.VolumeCells.size())
+  {
+  }
+  bool Section();       ///< the cross-section of the front faces, l_v at its nodes
+  bool Curve();         ///< the feature curves at mid-depth, resampled at the edge length
+  bool Cavity();        ///< the 2-D cavity and its refill
+  bool OutputPoints();  ///< kept points, then a front and a back point per new 2-D point
+  bool LocateCentres(); ///< the input cell holding each new cell's centre
+  bool Cells();         ///< kept, new (extruded) and patch cells
+  bool Fields();        ///< the point and cell data
+  bool Summary();       ///< field data, the embedded surface, the planes for the patch leaves
+  std::string Problem;
 
-  // ---- The cross-section: the front (Lo) faces, counter-clockwise in (U, V).
-  std::vector<vtkIdType> node2d(nPoints, -1), frontPoint;
+private:
+  bool Fail(const std::string& problem)
+  {
+    this->Problem = problem;
+    return false;
+  }
+  vtkEmbeddedRemesh* self;
+  vtkUnstructuredGrid* input;
+  const vtkEmbeddedRemeshLayout& layout;
+  const std::vector<vtkDataSet*>& surfaces;
+  vtkUnstructuredGrid* output;
+  vtkPolyData* embedded;
+  vtkEmbeddedRemeshPlanes* planes;
+  const int axis, U, V;
+  const double mid;
+  const vtkIdType nPoints;
+  const std::size_t nVolume;
+  // Section
+  std::vector<vtkIdType> node2d, frontPoint; ///< input point -> cross-section node; node -> input point
   ar::Mesh2D section;
+  double areaBefore = 0.0;
+  std::vector<double> lv;
+  // Curve
+  double inputSize = 0.0, edge = 0.0;
+  std::vector<double> cPoints;
+  std::vector<std::int64_t> cSegments;
+  // Cavity
+  ar::Cavity2DOptions options;
+  bool layered = false;
+  ar::Cavity2DRemesh result;
+  // OutputPoints
+  std::size_t n2 = 0;
+  std::vector<vtkIdType> outOfInput, pointSource;
+  std::vector<std::array<vtkIdType, 2>> pair; ///< per 2-D output point: its output ids on Lo, Hi
+  vtkNew<vtkIdList> ids;
+  std::vector<vtkIdType> planeCells, otherCells;
+  std::map<std::vector<vtkIdType>, vtkIdType> planeCellOfKey;
+  std::map<std::vector<vtkIdType>, std::pair<vtkIdType, int>> faceOwner; ///< key -> volume index, plane
+  std::vector<char> isVolume;
+  vtkNew<vtkPoints> points;
+  vtkIdType nKeptPoints = 0, nOut = 0;
+  // LocateCentres
+  vtkNew<vtkStaticCellLocator> cellLocator;
+  double tol2 = 0.0;
+  std::vector<vtkIdType> newCellOf2D, newCells2D;
+  LocatedPoints centreIn;
+  // Cells
+  std::unique_ptr<vtkEmbeddedRemeshCells> cellsPtr;
+  std::vector<char> cellKept;
+  double areaAfter = 0.0;
+  vtkIdType newCount = 0, keptCount = 0;
+  std::vector<vtkEmbeddedRemeshPlanes::Wedge> wedges;
+  std::size_t patchTriangles = 0;
+};
+
+//------------------------------------------------------------------------------
+bool Remesh2DRun::Section()
+{
+  // ---- The cross-section: the front (Lo) faces, counter-clockwise in (U, V).
+  node2d.assign(nPoints, -1);
   section.Points.clear();
   for (std::size_t k = 0; k < nVolume; ++k)
   {
@@ -353,7 +433,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       section.Points.push_back(x[V]);
     }
   }
-  double areaBefore = 0.0;
+  areaBefore = 0.0;
   for (std::size_t k = 0; k < nVolume; ++k)
   {
     std::vector<std::int64_t> face;
@@ -377,9 +457,14 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     section.Offsets.push_back(static_cast<std::int64_t>(section.Connectivity.size()));
   }
   // Longest 2-D edge at each node (the input's size at the curve).
-  const std::vector<double> lv = ar::LongestPolygonEdgeAtNodes(section.Points.data(), 2, frontPoint.size(),
+  lv = ar::LongestPolygonEdgeAtNodes(section.Points.data(), 2, frontPoint.size(),
     section.Offsets.data(), section.Connectivity.data(), nVolume);
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool Remesh2DRun::Curve()
+{
   // ---- The curves: the surfaces cut with the mid-depth plane.
   vtkNew<vtkAppendPolyData> append;
   for (vtkDataSet* ds : surfaces)
@@ -397,7 +482,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   }
   if (append->GetNumberOfInputConnections(0) == 0)
   {
-    return passThrough("The feature surface is empty (no Surfaces connected, or none has cells).");
+    return this->Fail("The feature surface is empty (no Surfaces connected, or none has cells).");
   }
   vtkNew<vtkPlane> plane;
   double origin[3] = { 0.0, 0.0, 0.0 }, normal[3] = { 0.0, 0.0, 0.0 };
@@ -419,7 +504,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   vtkPolyData* cut = stripper->GetOutput();
   if (cut->GetNumberOfLines() == 0)
   {
-    return passThrough("The feature curve is empty: the feature surface does not cross the mid-depth "
+    return this->Fail("The feature curve is empty: the feature surface does not cross the mid-depth "
                        "plane of the mesh.");
   }
   std::vector<double> cutPoints(2 * cut->GetNumberOfPoints());
@@ -429,12 +514,12 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     cutPoints[2 * i] = x[U];
     cutPoints[2 * i + 1] = x[V];
   }
-  const double inputSize = vtkEmbeddedRemeshInputSizeAt(section.Points.data(),
+  inputSize = vtkEmbeddedRemeshInputSizeAt(section.Points.data(),
     static_cast<vtkIdType>(frontPoint.size()), 2, lv, nullptr, cutPoints.data(), cutPoints.size() / 2);
-  const double edge = this->SurfaceEdgeLength > 0.0 ? this->SurfaceEdgeLength : this->GetSurfaceSizeFactorUsed() * inputSize;
+  edge = self->GetSurfaceEdgeLength() > 0.0 ? self->GetSurfaceEdgeLength() : self->GetSurfaceSizeFactorUsed() * inputSize;
   if (!(edge > 0.0))
   {
-    return passThrough("Could not find the mesh size near the feature curve; set SurfaceEdgeLength.");
+    return this->Fail("Could not find the mesh size near the feature curve; set SurfaceEdgeLength.");
   }
   {
     // The job's size, before the resampling and CGAL allocate it.
@@ -454,9 +539,9 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     }
     std::string tooLarge;
     if (!vtkEmbeddedRemeshJobFits(
-          this, 2, length, length, edge, inputSize, areaBefore, static_cast<double>(nVolume), tooLarge))
+          self, 2, length, length, edge, inputSize, areaBefore, static_cast<double>(nVolume), tooLarge))
     {
-      return passThrough(tooLarge.substr(std::string("EmbeddedRemesh: ").size()));
+      return this->Fail(tooLarge.substr(std::string("EmbeddedRemesh: ").size()));
     }
   }
   vtkNew<vtkSplineFilter> resample;
@@ -465,8 +550,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   resample->SetLength(edge);
   resample->Update();
   vtkPolyData* curve = resample->GetOutput();
-  std::vector<double> cPoints;
-  std::vector<std::int64_t> cSegments;
   {
     vtkIdType n;
     const vtkIdType* ids;
@@ -526,26 +609,23 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   }
   if (cSegments.empty())
   {
-    return passThrough("The feature curve is empty after resampling.");
+    return this->Fail("The feature curve is empty after resampling.");
   }
-  this->UpdateProgress(0.3);
-  if (this->CheckAbort())
-  {
-    output->ShallowCopy(input); // cancelled
-    return 1;
-  }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool Remesh2DRun::Cavity()
+{
   // ---- The 2-D cavity and its refill.
-  ar::Cavity2DOptions options;
   {
     std::string problem;
-    if (!vtkEmbeddedRemeshCavityOptions(this, edge, options, problem))
+    if (!vtkEmbeddedRemeshCavityOptions(self, edge, options, problem))
     {
-      return passThrough(problem.substr(std::string("EmbeddedRemesh: ").size()));
+      return this->Fail(problem.substr(std::string("EmbeddedRemesh: ").size()));
     }
   }
-  const bool layered = options.Layers.NumberOfLayers > 0;
-  ar::Cavity2DRemesh result;
+  layered = options.Layers.NumberOfLayers > 0;
   std::string error;
   bool ok = false;
   try
@@ -559,20 +639,19 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   }
   if (!ok)
   {
-    return passThrough(error);
+    return this->Fail(error);
   }
-  this->UpdateProgress(0.7);
-  if (this->CheckAbort())
-  {
-    output->ShallowCopy(input); // cancelled
-    return 1;
-  }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool Remesh2DRun::OutputPoints()
+{
   // ---- Output points: the kept input points (input order), then a front
   // and a back point per new 2-D point.
-  const std::size_t n2 = result.SourcePoint.size();
-  std::vector<vtkIdType> outOfInput(nPoints, -1), pointSource;
-  std::vector<std::array<vtkIdType, 2>> pair(n2); // per 2-D output point: its output ids on Lo, Hi
+  n2 = result.SourcePoint.size();
+  outOfInput.assign(nPoints, -1);
+  pair.resize(n2);
   for (std::size_t i = 0; i < n2; ++i)
   {
     if (result.SourcePoint[i] >= 0)
@@ -583,10 +662,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     }
   }
   // 2-D cells off the planes (patch faces on the domain boundary) keep their points.
-  vtkNew<vtkIdList> ids;
-  std::vector<vtkIdType> planeCells, otherCells;
-  std::map<std::vector<vtkIdType>, vtkIdType> planeCellOfKey;
-  std::map<std::vector<vtkIdType>, std::pair<vtkIdType, int>> faceOwner; // key -> volume index, plane
   for (std::size_t k = 0; k < nVolume; ++k)
   {
     for (int s = 0; s < 2; ++s)
@@ -594,7 +669,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       faceOwner[SortedKey(layout.Faces[k][s])] = { static_cast<vtkIdType>(k), s };
     }
   }
-  std::vector<char> isVolume(input->GetNumberOfCells(), 0);
+  isVolume.assign(input->GetNumberOfCells(), 0);
   for (const vtkIdType c : layout.VolumeCells)
   {
     isVolume[c] = 1;
@@ -622,7 +697,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       }
     }
   }
-  vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   for (vtkIdType p = 0; p < nPoints; ++p)
   {
@@ -632,7 +706,7 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       pointSource.push_back(p);
     }
   }
-  const vtkIdType nKeptPoints = points->GetNumberOfPoints();
+  nKeptPoints = points->GetNumberOfPoints();
   for (std::size_t i = 0; i < n2; ++i)
   {
     if (result.SourcePoint[i] >= 0)
@@ -651,15 +725,19 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       pointSource.push_back(-1);
     }
   }
-  const vtkIdType nOut = points->GetNumberOfPoints();
+  nOut = points->GetNumberOfPoints();
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool Remesh2DRun::LocateCentres()
+{
   // ---- The input cell holding each new cell's centre (at mid-depth): its
   // cell data, and the patch faces of its planes, go to the new cell.
-  vtkNew<vtkStaticCellLocator> cellLocator;
   cellLocator->SetDataSet(input);
   cellLocator->BuildLocator();
-  const double tol2 = 1e-12 * input->GetLength2();
-  std::vector<vtkIdType> newCellOf2D(result.SourceCell.size(), -1), newCells2D;
+  tol2 = 1e-12 * input->GetLength2();
+  newCellOf2D.assign(result.SourceCell.size(), -1);
   for (std::size_t c = 0; c < result.SourceCell.size(); ++c)
   {
     if (result.SourceCell[c] < 0)
@@ -682,8 +760,13 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     }
     centre[axis] = mid;
   }
-  const LocatedPoints centreIn = LocateInCells(cellLocator, tol2, centres, false);
+  centreIn = LocateInCells(cellLocator, tol2, centres, false);
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool Remesh2DRun::Cells()
+{
   // ---- Cells: kept volume cells (their node order), new wedges, then the
   // 2-D cells (off the planes; on the planes kept with their cell, and the
   // new wedges' triangles where the input had a face).
@@ -691,13 +774,11 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
   output->SetPoints(points);
   output->Allocate(static_cast<vtkIdType>(result.SourceCell.size() + otherCells.size() + planeCells.size()));
-  vtkEmbeddedRemeshCells cells(output); // Region 0 kept, 1 new triangle (wedge), 2 layer cell;
+  cellsPtr.reset(new vtkEmbeddedRemeshCells(output));
+  vtkEmbeddedRemeshCells& cells = *cellsPtr; // Region 0 kept, 1 new triangle (wedge), 2 layer cell;
   // Layer, LayerSide: layer cells' k (0 next to the curve) and side (+1 on the
   // curve's left, ARCavity2D.h; -1 on its right)
-  std::vector<char> cellKept(input->GetNumberOfCells(), 0);
-  double areaAfter = 0.0;
-  vtkIdType newCount = 0, keptCount = 0;
-  std::vector<vtkEmbeddedRemeshPlanes::Wedge> wedges;
+  cellKept.assign(input->GetNumberOfCells(), 0);
   for (std::size_t c = 0; c < result.SourceCell.size(); ++c)
   {
     const std::int64_t* v = &result.Mesh.Connectivity[result.Mesh.Offsets[c]];
@@ -782,7 +863,6 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
   {
     volumeIndex[layout.VolumeCells[k]] = static_cast<vtkIdType>(k);
   }
-  std::size_t patchTriangles = 0;
   for (const auto& w : wedges)
   {
     const vtkIdType k = w.Source >= 0 ? volumeIndex[w.Source] : -1;
@@ -799,10 +879,16 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       ++patchTriangles;
     }
   }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool Remesh2DRun::Fields()
+{
+  const vtkEmbeddedRemeshCells& cells = *cellsPtr;
   // ---- Fields: kept points and cells copy theirs; new points interpolate
   // in the input cell that contains them, new cells take their source's.
-  if (this->InterpolateFields)
+  if (self->GetInterpolateFields())
   {
     vtkPointData* outPD = output->GetPointData();
     vtkCellData* outCD = output->GetCellData();
@@ -834,6 +920,13 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
     vtkARFieldTransfer::TransferData(input->GetPointData(), outPD, pointSources);
     vtkARFieldTransfer::TransferData(input->GetCellData(), outCD, cellSources);
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool Remesh2DRun::Summary()
+{
+  vtkEmbeddedRemeshCells& cells = *cellsPtr;
   cells.Finish(layered);
   vtkEmbeddedRemeshSummary summary;
   summary.Quality = vtkEmbeddedRemeshAddQualityArrays(output, cells.Region());
@@ -894,6 +987,36 @@ int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRem
       planes->CellKept[c] = planes->CellKept[c] || !isVolume[c];
     }
     planes->Wedges = wedges;
+  }
+  return true;
+}
+}
+
+//------------------------------------------------------------------------------
+int vtkEmbeddedRemesh::Remesh2D(vtkUnstructuredGrid* input, const vtkEmbeddedRemeshLayout& layout,
+  const std::vector<vtkDataSet*>& surfaces, vtkUnstructuredGrid* output, vtkPolyData* embedded,
+  vtkEmbeddedRemeshPlanes* planes)
+{
+  Remesh2DRun run(this, input, layout, surfaces, output, embedded, planes);
+  bool cancelled = false;
+  auto proceed = [&](double progress) {
+    this->UpdateProgress(progress);
+    cancelled = this->CheckAbort();
+    return !cancelled;
+  };
+  const bool done = run.Section() && run.Curve() && proceed(0.3) && run.Cavity() && proceed(0.7) &&
+    run.OutputPoints() && run.LocateCentres() && run.Cells() && run.Fields() && run.Summary();
+  if (cancelled)
+  {
+    output->ShallowCopy(input);
+    return 1;
+  }
+  if (!done)
+  {
+    vtkErrorMacro(<< "EmbeddedRemesh (2-D mode): " << run.Problem << " The input passes through unchanged.");
+    output->ShallowCopy(input);
+    embedded->Initialize();
+    return 1;
   }
   this->UpdateProgress(1.0);
   return 1;

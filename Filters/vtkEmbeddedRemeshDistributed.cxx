@@ -397,6 +397,54 @@ void InterpolateDistributed(vtkUnstructuredGrid* input, vtkUnstructuredGrid* G, 
   outCD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
 }
 
+/// Rank 0: the gathered cells G refilled around S (`r`; the core's
+/// CavityCells from G's ARCavity flags), and the (rank, cell) of every
+/// gathered cell that goes. False with `error` from the core.
+bool RefillGathered(vtkUnstructuredGrid* G, const vtkEmbeddedRemeshSoup& r, ar::CavityOptions& options,
+  ar::CavityRemesh& result, std::vector<double>& removedCells, std::string& error)
+{
+  ar::TetMesh gathered;
+  gathered.Points.resize(3 * G->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < G->GetNumberOfPoints(); ++i)
+  {
+    G->GetPoint(i, &gathered.Points[3 * i]);
+  }
+  auto* flags = vtkUnsignedCharArray::SafeDownCast(G->GetCellData()->GetArray("ARCavity"));
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < G->GetNumberOfCells(); ++c)
+  {
+    G->GetCellPoints(c, ids);
+    for (vtkIdType k = 0; k < 4; ++k)
+    {
+      gathered.Tetrahedra.push_back(ids->GetId(k));
+    }
+    options.CavityCells.push_back(flags ? flags->GetValue(c) : 0);
+  }
+  if (!ar::RemeshLocalCavity(gathered, r.Points.data(), r.NumberOfPoints(), r.Triangles.data(),
+        r.NumberOfTriangles(), options, result, error))
+  {
+    return false;
+  }
+  std::vector<char> kept(G->GetNumberOfCells(), 0);
+  for (std::int64_t c : result.SourceCell)
+  {
+    if (c >= 0)
+    {
+      kept[c] = 1;
+    }
+  }
+  auto* src = vtkIdTypeArray::SafeDownCast(G->GetCellData()->GetArray("ARSource"));
+  for (vtkIdType c = 0; c < G->GetNumberOfCells(); ++c)
+  {
+    if (!kept[c])
+    {
+      removedCells.push_back(static_cast<double>(src->GetTypedComponent(c, 0)));
+      removedCells.push_back(static_cast<double>(src->GetTypedComponent(c, 1)));
+    }
+  }
+  return true;
+}
+
 /// This rank's input nodes, each counted by the rank that owns it (not a
 /// ghost copy of another rank's point).
 double OwnedInputNodes(vtkUnstructuredGrid* input)
@@ -412,6 +460,11 @@ double OwnedInputNodes(vtkUnstructuredGrid* input)
 }
 
 //------------------------------------------------------------------------------
+// About 250 lines, on purpose: every rank must make the same collective calls
+// in the same order, and agree on every failure before any returns, so the
+// sequence of collective calls (and of the failed() agreements between them)
+// is kept in this one function, where it reads top to bottom; the work between
+// them is in the functions above.
 int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   const std::vector<vtkDataSet*>& surfaces, vtkUnstructuredGrid* output, vtkPolyData* embedded)
 {
@@ -581,51 +634,9 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   ar::CavityRemesh result;
   std::vector<double> removedCells; // rank, cell of every gathered cell that goes
   onRoot([&]() {
-    if (!problem.empty())
-    {
-      return;
-    }
-    ar::TetMesh gathered;
-    gathered.Points.resize(3 * G->GetNumberOfPoints());
-    for (vtkIdType i = 0; i < G->GetNumberOfPoints(); ++i)
-    {
-      G->GetPoint(i, &gathered.Points[3 * i]);
-    }
-    auto* flags = vtkUnsignedCharArray::SafeDownCast(G->GetCellData()->GetArray("ARCavity"));
-    vtkNew<vtkIdList> ids;
-    for (vtkIdType c = 0; c < G->GetNumberOfCells(); ++c)
-    {
-      G->GetCellPoints(c, ids);
-      for (vtkIdType k = 0; k < 4; ++k)
-      {
-        gathered.Tetrahedra.push_back(ids->GetId(k));
-      }
-      options.CavityCells.push_back(flags ? flags->GetValue(c) : 0);
-    }
-    if (!ar::RemeshLocalCavity(gathered, r.Points.data(), r.NumberOfPoints(), r.Triangles.data(),
-          r.NumberOfTriangles(), options, result, error))
+    if (problem.empty() && !RefillGathered(G, r, options, result, removedCells, error))
     {
       problem = "EmbeddedRemesh: " + error;
-    }
-    else
-    {
-      std::vector<char> kept(G->GetNumberOfCells(), 0);
-      for (std::int64_t c : result.SourceCell)
-      {
-        if (c >= 0)
-        {
-          kept[c] = 1;
-        }
-      }
-      auto* src = vtkIdTypeArray::SafeDownCast(G->GetCellData()->GetArray("ARSource"));
-      for (vtkIdType c = 0; c < G->GetNumberOfCells(); ++c)
-      {
-        if (!kept[c])
-        {
-          removedCells.push_back(static_cast<double>(src->GetTypedComponent(c, 0)));
-          removedCells.push_back(static_cast<double>(src->GetTypedComponent(c, 1)));
-        }
-      }
     }
   });
   if (failed())

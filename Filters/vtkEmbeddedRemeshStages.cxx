@@ -703,10 +703,19 @@ void vtkEmbeddedRemeshCells::AddVolume(int type, vtkIdType n, const vtkIdType* p
   const ar::CellShape shape = type == VTK_TETRA ? ar::CellShape::Tetrahedron
     : type == VTK_WEDGE                         ? ar::CellShape::Wedge
                                                 : ar::CellShape::Pyramid;
+  // The output's points are doubles (the drivers make them so): read them in
+  // place, not point by point through vtkPoints::GetPoint.
+  const double* X = static_cast<const double*>(points->GetVoidPointer(0));
+  if (type == VTK_TETRA)
+  {
+    this->VolumeAfter +=
+      ar::TetSignedVolume(X + 3 * pts[0], X + 3 * pts[1], X + 3 * pts[2], X + 3 * pts[3]); // as ar::ComputeStatistics
+    return;
+  }
   double x[6 * 3];
   for (vtkIdType j = 0; j < n; ++j)
   {
-    points->GetPoint(pts[j], x + 3 * j);
+    std::copy(X + 3 * pts[j], X + 3 * pts[j] + 3, x + 3 * j);
   }
   this->VolumeAfter += ar::CellVolume(shape, x);
 }

@@ -639,11 +639,12 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   output->Initialize();
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
   output->SetPoints(points);
-  output->Allocate(static_cast<vtkIdType>(result.SourceCell.size() + otherCell.size()));
   vtkEmbeddedRemeshCells cells(output);
+  cells.Reserve(result.SourceCell.size() + otherCell.size() + result.Prisms.size() / 6 + result.Pyramids.size() / 5);
   cells.AddRefillTetrahedra(result, nullptr, &tetCell, points);
   AddKeptCells(input, otherCell, outOfInput, cells);
   cells.AddRefillLayers(result, nullptr, points);
+  cells.Commit();
   summary.Seconds.emplace_back("SecondsOutput", lap());
   if (this->InterpolateFields)
   {

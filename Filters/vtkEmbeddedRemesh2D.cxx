@@ -773,9 +773,9 @@ bool Remesh2DRun::Cells()
   output->Initialize();
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
   output->SetPoints(points);
-  output->Allocate(static_cast<vtkIdType>(result.SourceCell.size() + otherCells.size() + planeCells.size()));
   cellsPtr.reset(new vtkEmbeddedRemeshCells(output));
   vtkEmbeddedRemeshCells& cells = *cellsPtr; // Region 0 kept, 1 new triangle (wedge), 2 layer cell;
+  cells.Reserve(result.SourceCell.size() + otherCells.size() + planeCells.size());
   // Layer, LayerSide: layer cells' k (0 next to the curve) and side (+1 on the
   // curve's left, ARCavity2D.h; -1 on its right)
   cellKept.assign(input->GetNumberOfCells(), 0);
@@ -879,6 +879,7 @@ bool Remesh2DRun::Cells()
       ++patchTriangles;
     }
   }
+  cells.Commit();
   return true;
 }
 

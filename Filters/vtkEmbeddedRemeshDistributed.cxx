@@ -667,8 +667,8 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   output->Initialize();
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
   output->SetPoints(points);
-  output->Allocate(static_cast<vtkIdType>(nT + result.SourceCell.size()));
   vtkEmbeddedRemeshCells cells(output);
+  cells.Reserve(nT + result.SourceCell.size() + result.Prisms.size() / 6 + result.Pyramids.size() / 5);
   for (std::size_t t = 0; t < nT; ++t)
   {
     if (piece.Owned[t] && !gone[piece.TetCell[t]])
@@ -680,6 +680,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   }
   cells.AddRefillTetrahedra(result, &op.OutOfResult, nullptr, points);
   cells.AddRefillLayers(result, &op.OutOfResult, points);
+  cells.Commit();
   summary.Seconds.emplace_back("SecondsOutput", lap());
   if (this->InterpolateFields)
   {

@@ -25,6 +25,7 @@
 #include "vtkFieldData.h"
 #include "vtkGeometryFilter.h"
 #include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkMath.h"
 #include "vtkMultiProcessController.h"
 #include "vtkPoints.h"
@@ -35,6 +36,7 @@
 #include "vtkStaticCleanPolyData.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkTriangleFilter.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
@@ -674,72 +676,131 @@ vtkEmbeddedRemeshCells::vtkEmbeddedRemeshCells(vtkUnstructuredGrid* output)
 
 vtkEmbeddedRemeshCells::~vtkEmbeddedRemeshCells() = default;
 
+void vtkEmbeddedRemeshCells::Reserve(std::size_t cells)
+{
+  this->Types.reserve(cells);
+  this->Offsets.reserve(cells + 1);
+  this->Connectivity.reserve(4 * cells);
+  this->Source.reserve(cells);
+  this->RegionOf.reserve(cells);
+  this->LayerOf.reserve(cells);
+  this->SideOf.reserve(cells);
+}
+
 void vtkEmbeddedRemeshCells::Add(
   int type, vtkIdType n, const vtkIdType* pts, vtkIdType source, int region, int layer, int side, vtkPoints* points)
 {
   if (points)
   {
-    this->AddVolume(type, n, pts, points);
+    // The output's points are doubles (the drivers make them so): read them
+    // in place, not point by point through vtkPoints::GetPoint.
+    this->VolumeAfter += this->Volume(type, n, pts, static_cast<const double*>(points->GetVoidPointer(0)));
   }
-  this->Output->InsertNextCell(type, n, pts);
+  this->Types.push_back(static_cast<unsigned char>(type));
+  this->Connectivity.insert(this->Connectivity.end(), pts, pts + n);
+  this->Offsets.push_back(static_cast<vtkIdType>(this->Connectivity.size()));
   this->Source.push_back(source);
-  this->RegionArray->InsertNextValue(region);
-  this->LayerArray->InsertNextValue(layer);
-  this->SideArray->InsertNextValue(side);
+  this->RegionOf.push_back(region);
+  this->LayerOf.push_back(layer);
+  this->SideOf.push_back(side);
   this->NewCount += region > 0 ? 1 : 0;
 }
 
 void vtkEmbeddedRemeshCells::AddPolyhedron(vtkIdType source, vtkIdList* faces)
 {
-  this->Output->InsertNextCell(VTK_POLYHEDRON, faces);
+  // Its place in the arrays (type, no points) holds the order; Commit
+  // inserts the face stream there, as vtkUnstructuredGrid derives the
+  // polyhedron's points from it.
+  vtkNew<vtkIdList> copy;
+  copy->DeepCopy(faces);
+  this->Polyhedra.emplace_back(static_cast<vtkIdType>(this->Types.size()), copy);
+  this->Types.push_back(VTK_POLYHEDRON);
+  this->Offsets.push_back(static_cast<vtkIdType>(this->Connectivity.size()));
   this->Source.push_back(source);
-  this->RegionArray->InsertNextValue(0);
-  this->LayerArray->InsertNextValue(-1);
-  this->SideArray->InsertNextValue(0);
+  this->RegionOf.push_back(0);
+  this->LayerOf.push_back(-1);
+  this->SideOf.push_back(0);
 }
 
-void vtkEmbeddedRemeshCells::AddVolume(int type, vtkIdType n, const vtkIdType* pts, vtkPoints* points)
+double vtkEmbeddedRemeshCells::Volume(int type, vtkIdType n, const vtkIdType* pts, const double* X) const
 {
-  const ar::CellShape shape = type == VTK_TETRA ? ar::CellShape::Tetrahedron
-    : type == VTK_WEDGE                         ? ar::CellShape::Wedge
-                                                : ar::CellShape::Pyramid;
-  // The output's points are doubles (the drivers make them so): read them in
-  // place, not point by point through vtkPoints::GetPoint.
-  const double* X = static_cast<const double*>(points->GetVoidPointer(0));
   if (type == VTK_TETRA)
   {
-    this->VolumeAfter +=
-      ar::TetSignedVolume(X + 3 * pts[0], X + 3 * pts[1], X + 3 * pts[2], X + 3 * pts[3]); // as ar::ComputeStatistics
-    return;
+    return ar::TetSignedVolume(X + 3 * pts[0], X + 3 * pts[1], X + 3 * pts[2], X + 3 * pts[3]); // as ar::ComputeStatistics
   }
+  const ar::CellShape shape = type == VTK_WEDGE ? ar::CellShape::Wedge : ar::CellShape::Pyramid;
   double x[6 * 3];
   for (vtkIdType j = 0; j < n; ++j)
   {
     std::copy(X + 3 * pts[j], X + 3 * pts[j] + 3, x + 3 * j);
   }
-  this->VolumeAfter += ar::CellVolume(shape, x);
+  return ar::CellVolume(shape, x);
+}
+
+void vtkEmbeddedRemeshCells::AppendCells(std::size_t count)
+{
+  const std::size_t n = this->Types.size() + count;
+  this->Types.resize(n);
+  this->Offsets.resize(n + 1);
+  this->Source.resize(n);
+  this->RegionOf.resize(n);
+  this->LayerOf.resize(n);
+  this->SideOf.resize(n);
 }
 
 void vtkEmbeddedRemeshCells::AddRefillTetrahedra(const ar::CavityRemesh& result,
   const std::vector<vtkIdType>* pointOf, const std::vector<vtkIdType>* keptSource, vtkPoints* points)
 {
-  const bool layered = !result.TetrahedronLayer.empty();
+  // The result's tetrahedra to add, in order; each goes to its fixed place
+  // (first + its index), so the threads' schedule changes nothing.
+  std::vector<std::size_t> added;
+  added.reserve(result.SourceCell.size());
   for (std::size_t t = 0; t < result.SourceCell.size(); ++t)
   {
-    const std::int64_t src = result.SourceCell[t];
-    if (src >= 0 && !keptSource)
+    if (result.SourceCell[t] < 0 || keptSource)
     {
-      continue;
+      added.push_back(t);
     }
-    const std::int64_t* v = &result.Mesh.Tetrahedra[4 * t];
-    vtkIdType pts[4];
-    for (int k = 0; k < 4; ++k)
+  }
+  const std::size_t first = this->Types.size();
+  const vtkIdType firstPoint = static_cast<vtkIdType>(this->Connectivity.size());
+  const auto count = static_cast<vtkIdType>(added.size());
+  this->AppendCells(added.size());
+  this->Connectivity.resize(this->Connectivity.size() + 4 * added.size());
+  std::vector<double> volume(points ? added.size() : 0);
+  const double* X = points ? static_cast<const double*>(points->GetVoidPointer(0)) : nullptr;
+  const bool layered = !result.TetrahedronLayer.empty();
+  vtkSMPTools::For(0, count, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
     {
-      pts[k] = pointOf ? (*pointOf)[v[k]] : static_cast<vtkIdType>(v[k]);
+      const std::size_t t = added[i], c = first + i;
+      const std::int64_t src = result.SourceCell[t];
+      const std::int64_t* v = &result.Mesh.Tetrahedra[4 * t];
+      vtkIdType* pts = &this->Connectivity[firstPoint + 4 * i];
+      for (int k = 0; k < 4; ++k)
+      {
+        pts[k] = pointOf ? (*pointOf)[v[k]] : static_cast<vtkIdType>(v[k]);
+      }
+      const int k = layered ? result.TetrahedronLayer[t] : -1;
+      this->Types[c] = VTK_TETRA;
+      this->Offsets[c + 1] = firstPoint + 4 * (i + 1);
+      this->Source[c] = src >= 0 ? (*keptSource)[src] : -1;
+      this->RegionOf[c] = src >= 0 ? 0 : k >= 0 ? 2 : 1;
+      this->LayerOf[c] = k;
+      this->SideOf[c] = k >= 0 ? result.TetrahedronSide[t] : 0;
+      if (X)
+      {
+        volume[i] = this->Volume(VTK_TETRA, 4, pts, X);
+      }
     }
-    const int k = layered ? result.TetrahedronLayer[t] : -1;
-    this->Add(VTK_TETRA, 4, pts, src >= 0 ? (*keptSource)[src] : -1, src >= 0 ? 0 : k >= 0 ? 2 : 1, k,
-      k >= 0 ? result.TetrahedronSide[t] : 0, points);
+  });
+  for (vtkIdType i = 0; i < count; ++i) // in order, as the cells come
+  {
+    this->NewCount += this->RegionOf[first + i] > 0 ? 1 : 0;
+    if (X)
+    {
+      this->VolumeAfter += volume[i];
+    }
   }
 }
 
@@ -763,8 +824,60 @@ void vtkEmbeddedRemeshCells::AddRefillLayers(
   add(VTK_PYRAMID, 5, result.Pyramids, result.PyramidLayer, result.PyramidSide);
 }
 
+namespace
+{
+template <typename T, typename A>
+void CopyInto(const std::vector<T>& values, A* array)
+{
+  array->SetNumberOfValues(static_cast<vtkIdType>(values.size()));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+}
+}
+
+void vtkEmbeddedRemeshCells::Commit()
+{
+  const auto n = static_cast<vtkIdType>(this->Types.size());
+  if (this->Polyhedra.empty())
+  {
+    vtkNew<vtkIdTypeArray> offsets, connectivity;
+    CopyInto(this->Offsets, offsets.Get());
+    CopyInto(this->Connectivity, connectivity.Get());
+    vtkNew<vtkCellArray> cells;
+    cells->SetData(offsets, connectivity);
+    vtkNew<vtkUnsignedCharArray> types;
+    CopyInto(this->Types, types.Get());
+    this->Output->SetCells(types, cells);
+  }
+  else
+  {
+    // A polyhedron's points come from its face stream: insert the cells one
+    // by one, as vtkUnstructuredGrid derives them (kept polyhedra are rare).
+    this->Output->Allocate(n);
+    auto poly = this->Polyhedra.begin();
+    for (vtkIdType c = 0; c < n; ++c)
+    {
+      if (poly != this->Polyhedra.end() && poly->first == c)
+      {
+        this->Output->InsertNextCell(VTK_POLYHEDRON, poly->second);
+        ++poly;
+        continue;
+      }
+      this->Output->InsertNextCell(this->Types[c], this->Offsets[c + 1] - this->Offsets[c],
+        &this->Connectivity[this->Offsets[c]]);
+    }
+  }
+  CopyInto(this->RegionOf, this->RegionArray.Get());
+  CopyInto(this->LayerOf, this->LayerArray.Get());
+  CopyInto(this->SideOf, this->SideArray.Get());
+  this->Committed = true;
+}
+
 void vtkEmbeddedRemeshCells::Finish(bool layerArrays)
 {
+  if (!this->Committed)
+  {
+    this->Commit();
+  }
   this->Output->GetCellData()->AddArray(this->RegionArray);
   if (layerArrays)
   {

@@ -20,9 +20,9 @@
 #define vtkEmbeddedRemeshStages_h
 
 #include "vtkARFieldTransfer.h"
-#include "vtkARFieldTransfer.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
+#include "vtkSmartPointer.h"
 #include "vtkType.h"
 
 #include <chrono>
@@ -35,6 +35,7 @@
 class vtkAlgorithm;
 class vtkDataSet;
 class vtkEmbeddedRemesh;
+class vtkIdList;
 class vtkPoints;
 class vtkPolyData;
 class vtkUnstructuredGrid;
@@ -186,19 +187,28 @@ bool vtkEmbeddedRemeshCavityOptions(
 /// S; others -1) and LayerSide (+1 on S's normal side, -1 on the other;
 /// others 0) and the input cell each comes from (-1: new). The volume of the
 /// refill's cells (kept and new tetrahedra, prisms, pyramids) is summed for
-/// RelativeVolumeChange.
+/// RelativeVolumeChange, in the order the cells are added.
+///
+/// The cells are collected in plain arrays and handed to the output at once
+/// by Commit (one vtkCellArray on those arrays, as vtkUnstructuredGrid::
+/// SetCells takes it), not inserted one by one: an output has millions of
+/// cells and InsertNextCell's growth and dispatch per cell was the Output
+/// stage's cost. The refill's tetrahedra, the bulk of them, are filled in
+/// parallel (vtkSMPTools), each at its fixed place.
 class vtkEmbeddedRemeshCells
 {
 public:
   explicit vtkEmbeddedRemeshCells(vtkUnstructuredGrid* output);
   ~vtkEmbeddedRemeshCells();
+  /// Room for `cells` cells (of 4 points on average) before they are added.
+  void Reserve(std::size_t cells);
   /// One cell of `n` output point ids `pts`; `source` the input cell it is
   /// a copy of (-1 new).
   /// With `points` (the output's), the cell's volume counts in VolumeAfter.
   void Add(int type, vtkIdType n, const vtkIdType* pts, vtkIdType source, int region, int layer, int side,
     vtkPoints* points = nullptr);
   /// A polyhedron (its face stream in output point ids) kept from `source`.
-  void AddPolyhedron(vtkIdType source, class vtkIdList* faces);
+  void AddPolyhedron(vtkIdType source, vtkIdList* faces);
   /// The tetrahedra of the core's result through `pointOf` (result point ->
   /// output point; null: the same ids). Those whose SourceCell is set are
   /// kept, from input cell (*keptSource)[SourceCell]; with `keptSource`
@@ -208,6 +218,9 @@ public:
     const std::vector<vtkIdType>* keptSource, vtkPoints* points);
   /// The result's prisms and pyramids (the layers and their closure).
   void AddRefillLayers(const ar::CavityRemesh& result, const std::vector<vtkIdType>* pointOf, vtkPoints* points);
+  /// Makes the cells added so far the output's cells, and Region() ready.
+  /// Once, after the last Add and before anything reads the output's cells.
+  void Commit();
   /// Adds the Region array, and Layer and LayerSide when `layerArrays`.
   void Finish(bool layerArrays);
   const std::vector<vtkIdType>& Sources() const { return this->Source; }
@@ -217,11 +230,16 @@ public:
   double VolumeAfter = 0.0;
 
 private:
-  void AddVolume(int type, vtkIdType n, const vtkIdType* pts, vtkPoints* points);
+  double Volume(int type, vtkIdType n, const vtkIdType* pts, const double* X) const;
+  void AppendCells(std::size_t count);
   vtkUnstructuredGrid* Output;
-  std::vector<vtkIdType> Source;
+  std::vector<unsigned char> Types;
+  std::vector<vtkIdType> Offsets{ 0 }, Connectivity, Source;
+  std::vector<int> RegionOf, LayerOf, SideOf;
+  std::vector<std::pair<vtkIdType, vtkSmartPointer<vtkIdList>>> Polyhedra; // (cell, face stream)
   vtkNew<vtkIntArray> RegionArray, LayerArray, SideArray;
   vtkIdType NewCount = 0;
+  bool Committed = false;
 };
 
 /// Where the new points and cells of an output take their fields from: each

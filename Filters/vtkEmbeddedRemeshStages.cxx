@@ -41,6 +41,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <new>
 #include <sstream>
 
@@ -669,6 +670,7 @@ bool vtkEmbeddedRemeshCavityOptions(
 vtkEmbeddedRemeshCells::vtkEmbeddedRemeshCells(vtkUnstructuredGrid* output)
   : Output(output)
 {
+  this->Offsets->InsertNextValue(0);
   this->RegionArray->SetName("Region");
   this->LayerArray->SetName("Layer");
   this->SideArray->SetName("LayerSide");
@@ -678,13 +680,15 @@ vtkEmbeddedRemeshCells::~vtkEmbeddedRemeshCells() = default;
 
 void vtkEmbeddedRemeshCells::Reserve(std::size_t cells)
 {
-  this->Types.reserve(cells);
-  this->Offsets.reserve(cells + 1);
-  this->Connectivity.reserve(4 * cells);
+  const auto n = static_cast<vtkIdType>(cells);
+  this->Types->Allocate(n);
+  this->Offsets->Allocate(n + 1);
+  this->Offsets->InsertNextValue(0);
+  this->Connectivity->Allocate(4 * n);
   this->Source.reserve(cells);
-  this->RegionOf.reserve(cells);
-  this->LayerOf.reserve(cells);
-  this->SideOf.reserve(cells);
+  this->RegionArray->Allocate(n);
+  this->LayerArray->Allocate(n);
+  this->SideArray->Allocate(n);
 }
 
 void vtkEmbeddedRemeshCells::Add(
@@ -696,30 +700,30 @@ void vtkEmbeddedRemeshCells::Add(
     // in place, not point by point through vtkPoints::GetPoint.
     this->VolumeAfter += this->Volume(type, n, pts, static_cast<const double*>(points->GetVoidPointer(0)));
   }
-  this->Types.push_back(static_cast<unsigned char>(type));
-  this->Connectivity.insert(this->Connectivity.end(), pts, pts + n);
-  this->Offsets.push_back(static_cast<vtkIdType>(this->Connectivity.size()));
+  const vtkIdType c = this->AppendCells(1, n);
+  std::copy(pts, pts + n, this->Connectivity->GetPointer(this->Offsets->GetValue(c)));
+  this->Types->SetValue(c, static_cast<unsigned char>(type));
   this->Source.push_back(source);
-  this->RegionOf.push_back(region);
-  this->LayerOf.push_back(layer);
-  this->SideOf.push_back(side);
+  this->RegionArray->SetValue(c, region);
+  this->LayerArray->SetValue(c, layer);
+  this->SideArray->SetValue(c, side);
   this->NewCount += region > 0 ? 1 : 0;
 }
 
 void vtkEmbeddedRemeshCells::AddPolyhedron(vtkIdType source, vtkIdList* faces)
 {
-  // Its place in the arrays (type, no points) holds the order; Commit
-  // inserts the face stream there, as vtkUnstructuredGrid derives the
-  // polyhedron's points from it.
+  // Its place (a type, no points) holds the order; Commit inserts the face
+  // stream there, as vtkUnstructuredGrid derives the polyhedron's points
+  // from it.
   vtkNew<vtkIdList> copy;
   copy->DeepCopy(faces);
-  this->Polyhedra.emplace_back(static_cast<vtkIdType>(this->Types.size()), copy);
-  this->Types.push_back(VTK_POLYHEDRON);
-  this->Offsets.push_back(static_cast<vtkIdType>(this->Connectivity.size()));
+  const vtkIdType c = this->AppendCells(1, 0);
+  this->Polyhedra.emplace_back(c, copy);
+  this->Types->SetValue(c, VTK_POLYHEDRON);
   this->Source.push_back(source);
-  this->RegionOf.push_back(0);
-  this->LayerOf.push_back(-1);
-  this->SideOf.push_back(0);
+  this->RegionArray->SetValue(c, 0);
+  this->LayerArray->SetValue(c, -1);
+  this->SideArray->SetValue(c, 0);
 }
 
 double vtkEmbeddedRemeshCells::Volume(int type, vtkIdType n, const vtkIdType* pts, const double* X) const
@@ -737,15 +741,49 @@ double vtkEmbeddedRemeshCells::Volume(int type, vtkIdType n, const vtkIdType* pt
   return ar::CellVolume(shape, x);
 }
 
-void vtkEmbeddedRemeshCells::AppendCells(std::size_t count)
+namespace
 {
-  const std::size_t n = this->Types.size() + count;
-  this->Types.resize(n);
-  this->Offsets.resize(n + 1);
-  this->Source.resize(n);
-  this->RegionOf.resize(n);
-  this->LayerOf.resize(n);
-  this->SideOf.resize(n);
+/// `array` `extra` values longer, its capacity at least doubled when it
+/// grows (vtkGenericDataArray::Resize), as InsertNextValue grows it.
+template <typename A>
+void Extend(A* array, vtkIdType extra)
+{
+  const vtkIdType n = array->GetNumberOfValues() + extra;
+  if (n > array->GetSize())
+  {
+    array->Resize(n);
+  }
+  array->SetNumberOfValues(n);
+}
+}
+
+vtkIdType vtkEmbeddedRemeshCells::AppendCells(vtkIdType count, vtkIdType points)
+{
+  // `count` cells of `points` points in all, after the last; their offsets
+  // are the caller's to set but for one cell. Returns the first's index.
+  const vtkIdType first = this->Types->GetNumberOfValues();
+  const vtkIdType firstPoint = this->Connectivity->GetNumberOfValues();
+  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{ this->Types, this->Offsets, this->RegionArray,
+         this->LayerArray, this->SideArray })
+  {
+    switch (a->GetDataType())
+    {
+      case VTK_UNSIGNED_CHAR:
+        Extend(static_cast<vtkUnsignedCharArray*>(a), count);
+        break;
+      case VTK_INT:
+        Extend(static_cast<vtkIntArray*>(a), count);
+        break;
+      default:
+        Extend(static_cast<vtkIdTypeArray*>(a), count);
+    }
+  }
+  Extend(this->Connectivity.Get(), points);
+  if (count == 1)
+  {
+    this->Offsets->SetValue(first + 1, firstPoint + points);
+  }
+  return first;
 }
 
 void vtkEmbeddedRemeshCells::AddRefillTetrahedra(const ar::CavityRemesh& result,
@@ -762,32 +800,38 @@ void vtkEmbeddedRemeshCells::AddRefillTetrahedra(const ar::CavityRemesh& result,
       added.push_back(t);
     }
   }
-  const std::size_t first = this->Types.size();
-  const vtkIdType firstPoint = static_cast<vtkIdType>(this->Connectivity.size());
   const auto count = static_cast<vtkIdType>(added.size());
-  this->AppendCells(added.size());
-  this->Connectivity.resize(this->Connectivity.size() + 4 * added.size());
+  const vtkIdType firstPoint = this->Connectivity->GetNumberOfValues();
+  const vtkIdType first = this->AppendCells(count, 4 * count);
+  this->Source.resize(this->Source.size() + added.size());
   std::vector<double> volume(points ? added.size() : 0);
   const double* X = points ? static_cast<const double*>(points->GetVoidPointer(0)) : nullptr;
   const bool layered = !result.TetrahedronLayer.empty();
+  unsigned char* types = this->Types->GetPointer(0);
+  vtkIdType* offsets = this->Offsets->GetPointer(0);
+  int* region = this->RegionArray->GetPointer(0);
+  int* layer = this->LayerArray->GetPointer(0);
+  int* side = this->SideArray->GetPointer(0);
+  vtkIdType* connectivity = this->Connectivity->GetPointer(0);
   vtkSMPTools::For(0, count, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType i = b; i < e; ++i)
     {
-      const std::size_t t = added[i], c = first + i;
+      const std::size_t t = added[i];
+      const vtkIdType c = first + i;
       const std::int64_t src = result.SourceCell[t];
       const std::int64_t* v = &result.Mesh.Tetrahedra[4 * t];
-      vtkIdType* pts = &this->Connectivity[firstPoint + 4 * i];
+      vtkIdType* pts = connectivity + firstPoint + 4 * i;
       for (int k = 0; k < 4; ++k)
       {
         pts[k] = pointOf ? (*pointOf)[v[k]] : static_cast<vtkIdType>(v[k]);
       }
       const int k = layered ? result.TetrahedronLayer[t] : -1;
-      this->Types[c] = VTK_TETRA;
-      this->Offsets[c + 1] = firstPoint + 4 * (i + 1);
+      types[c] = VTK_TETRA;
+      offsets[c + 1] = firstPoint + 4 * (i + 1);
       this->Source[c] = src >= 0 ? (*keptSource)[src] : -1;
-      this->RegionOf[c] = src >= 0 ? 0 : k >= 0 ? 2 : 1;
-      this->LayerOf[c] = k;
-      this->SideOf[c] = k >= 0 ? result.TetrahedronSide[t] : 0;
+      region[c] = src >= 0 ? 0 : k >= 0 ? 2 : 1;
+      layer[c] = k;
+      side[c] = k >= 0 ? result.TetrahedronSide[t] : 0;
       if (X)
       {
         volume[i] = this->Volume(VTK_TETRA, 4, pts, X);
@@ -796,7 +840,7 @@ void vtkEmbeddedRemeshCells::AddRefillTetrahedra(const ar::CavityRemesh& result,
   });
   for (vtkIdType i = 0; i < count; ++i) // in order, as the cells come
   {
-    this->NewCount += this->RegionOf[first + i] > 0 ? 1 : 0;
+    this->NewCount += region[first + i] > 0 ? 1 : 0;
     if (X)
     {
       this->VolumeAfter += volume[i];
@@ -824,34 +868,24 @@ void vtkEmbeddedRemeshCells::AddRefillLayers(
   add(VTK_PYRAMID, 5, result.Pyramids, result.PyramidLayer, result.PyramidSide);
 }
 
-namespace
-{
-template <typename T, typename A>
-void CopyInto(const std::vector<T>& values, A* array)
-{
-  array->SetNumberOfValues(static_cast<vtkIdType>(values.size()));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-}
-}
-
 void vtkEmbeddedRemeshCells::Commit()
 {
-  const auto n = static_cast<vtkIdType>(this->Types.size());
+  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{
+         this->Types, this->Offsets, this->Connectivity, this->RegionArray, this->LayerArray, this->SideArray })
+  {
+    a->Squeeze(); // the room Reserve or the growth left
+  }
   if (this->Polyhedra.empty())
   {
-    vtkNew<vtkIdTypeArray> offsets, connectivity;
-    CopyInto(this->Offsets, offsets.Get());
-    CopyInto(this->Connectivity, connectivity.Get());
     vtkNew<vtkCellArray> cells;
-    cells->SetData(offsets, connectivity);
-    vtkNew<vtkUnsignedCharArray> types;
-    CopyInto(this->Types, types.Get());
-    this->Output->SetCells(types, cells);
+    cells->SetData(this->Offsets, this->Connectivity);
+    this->Output->SetCells(this->Types, cells);
   }
   else
   {
     // A polyhedron's points come from its face stream: insert the cells one
     // by one, as vtkUnstructuredGrid derives them (kept polyhedra are rare).
+    const vtkIdType n = this->Types->GetNumberOfValues();
     this->Output->Allocate(n);
     auto poly = this->Polyhedra.begin();
     for (vtkIdType c = 0; c < n; ++c)
@@ -862,13 +896,11 @@ void vtkEmbeddedRemeshCells::Commit()
         ++poly;
         continue;
       }
-      this->Output->InsertNextCell(this->Types[c], this->Offsets[c + 1] - this->Offsets[c],
-        &this->Connectivity[this->Offsets[c]]);
+      const vtkIdType o = this->Offsets->GetValue(c);
+      this->Output->InsertNextCell(
+        this->Types->GetValue(c), this->Offsets->GetValue(c + 1) - o, this->Connectivity->GetPointer(o));
     }
   }
-  CopyInto(this->RegionOf, this->RegionArray.Get());
-  CopyInto(this->LayerOf, this->LayerArray.Get());
-  CopyInto(this->SideOf, this->SideArray.Get());
   this->Committed = true;
 }
 

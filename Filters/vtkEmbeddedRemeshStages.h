@@ -20,10 +20,12 @@
 #define vtkEmbeddedRemeshStages_h
 
 #include "vtkARFieldTransfer.h"
+#include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
 #include "vtkType.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <chrono>
 #include <cstdint>
@@ -189,10 +191,10 @@ bool vtkEmbeddedRemeshCavityOptions(
 /// refill's cells (kept and new tetrahedra, prisms, pyramids) is summed for
 /// RelativeVolumeChange, in the order the cells are added.
 ///
-/// The cells are collected in plain arrays and handed to the output at once
-/// by Commit (one vtkCellArray on those arrays, as vtkUnstructuredGrid::
-/// SetCells takes it), not inserted one by one: an output has millions of
-/// cells and InsertNextCell's growth and dispatch per cell was the Output
+/// The cells are collected in the arrays vtkCellArray is made of and handed
+/// to the output at once by Commit (vtkCellArray::SetData,
+/// vtkUnstructuredGrid::SetCells), not inserted one by one: an output has
+/// millions of cells, and InsertNextCell's dispatch per cell was the Output
 /// stage's cost. The refill's tetrahedra, the bulk of them, are filled in
 /// parallel (vtkSMPTools), each at its fixed place.
 class vtkEmbeddedRemeshCells
@@ -200,7 +202,7 @@ class vtkEmbeddedRemeshCells
 public:
   explicit vtkEmbeddedRemeshCells(vtkUnstructuredGrid* output);
   ~vtkEmbeddedRemeshCells();
-  /// Room for `cells` cells (of 4 points on average) before they are added.
+  /// Room for `cells` cells (of 4 points on average); before the first Add.
   void Reserve(std::size_t cells);
   /// One cell of `n` output point ids `pts`; `source` the input cell it is
   /// a copy of (-1 new).
@@ -231,11 +233,13 @@ public:
 
 private:
   double Volume(int type, vtkIdType n, const vtkIdType* pts, const double* X) const;
-  void AppendCells(std::size_t count);
+  vtkIdType AppendCells(vtkIdType count, vtkIdType points);
   vtkUnstructuredGrid* Output;
-  std::vector<unsigned char> Types;
-  std::vector<vtkIdType> Offsets{ 0 }, Connectivity, Source;
-  std::vector<int> RegionOf, LayerOf, SideOf;
+  // The cells as vtkCellArray and vtkUnstructuredGrid take them, grown as
+  // cells come and given to the output by Commit.
+  vtkNew<vtkUnsignedCharArray> Types;
+  vtkNew<vtkIdTypeArray> Offsets, Connectivity;
+  std::vector<vtkIdType> Source;
   std::vector<std::pair<vtkIdType, vtkSmartPointer<vtkIdList>>> Polyhedra; // (cell, face stream)
   vtkNew<vtkIntArray> RegionArray, LayerArray, SideArray;
   vtkIdType NewCount = 0;

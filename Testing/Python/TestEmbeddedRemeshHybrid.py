@@ -21,7 +21,10 @@ which crosses the wall and the layers.
   from those next to a kept cell with a worse angle; the cell arrays
   MinDihedralAngle / MaxDihedralAngle / AspectRatio are right for every cell
   type (the layer cells are right prisms over the wall's triangles and
-  quads: their dihedral angles are the wall polygons' angles and 90).
+  quads: their dihedral angles are the wall polygons' angles and 90);
+- kept polyhedra: the same mesh with its hexahedra given as polyhedra (their
+  six faces) gives the same points and cells, each polyhedron kept with its
+  face stream in the output's point ids.
 """
 import numpy as np
 from paraview.simple import *
@@ -201,5 +204,60 @@ check(not bad, "every new tetrahedron's min dihedral >= 10 deg (min %.2f, mean %
       "worse kept cell)" % (mind[new].min(), mind[new].mean(), excused))
 check(abs(artest.field(out, "MinDihedralAngleNew")[0] - mind[new].min()) < 1e-12,
       "MinDihedralAngleNew is the new cells' minimum")
+
+# ---- Kept polyhedra: the same mesh with its hexahedra as polyhedra (their six
+# faces) gives the same output, each polyhedron kept with its face stream.
+from vtkmodules.vtkCommonCore import vtkIdList
+from vtkmodules.vtkCommonDataModel import VTK_POLYHEDRON, vtkUnstructuredGrid
+
+HEX_FACES = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
+poly_in = vtkUnstructuredGrid()
+poly_in.SetPoints(src.VTKObject.GetPoints())
+poly_in.Allocate(len(types0))
+streams = {}
+for c, (t, ids) in enumerate(zip(types0, cells0)):
+    if t == VTK_HEXAHEDRON:
+        stream = [6] + [x for f in HEX_FACES for x in [4] + [int(ids[k]) for k in f]]
+        streams[c] = stream
+        faces_list = vtkIdList()
+        for x in stream:
+            faces_list.InsertNextId(x)
+        poly_in.InsertNextCell(VTK_POLYHEDRON, faces_list)
+    else:
+        poly_in.InsertNextCell(int(t), len(ids), [int(i) for i in ids])
+for target, source in ((poly_in.GetPointData(), src.VTKObject.GetPointData()),
+                       (poly_in.GetCellData(), src.VTKObject.GetCellData()),
+                       (poly_in.GetFieldData(), src.VTKObject.GetFieldData())):
+    target.ShallowCopy(source)
+producer = TrivialProducer()
+producer.GetClientSideObject().SetOutput(poly_in)
+er_poly = EmbeddedRemesh(Input=producer, Surfaces=[plane], SurfaceEdgeLength=EDGE, BoundaryMargin=MARGIN)
+outp = artest.fetch(er_poly)
+types2 = np.array([outp.VTKObject.GetCellType(c) for c in range(outp.GetNumberOfCells())])
+expected = np.where(types1 == VTK_HEXAHEDRON, VTK_POLYHEDRON, types1)
+P2 = np.asarray(outp.Points, dtype=np.float64)
+check(np.array_equal(P2, P1) and np.array_equal(types2, expected),
+      "with the %d hexahedra as polyhedra: the same points and cells, each hexahedron a polyhedron (%d)"
+      % (len(streams), int((types2 == VTK_POLYHEDRON).sum())))
+bad = 0
+out_of_input = {i: index1[P0[i].tobytes()] for i in np.unique(np.concatenate([cells0[c] for c in streams]))}
+kept = {}
+for c in np.nonzero(types2 == VTK_POLYHEDRON)[0]:
+    stream = vtkIdList()
+    outp.VTKObject.GetFaceStream(int(c), stream)
+    kept[tuple(stream.GetId(k) for k in range(stream.GetNumberOfIds()))] = c
+for c, stream in streams.items():
+    mapped, pos = [stream[0]], 1
+    for f in range(stream[0]):
+        n = stream[pos]
+        mapped += [n] + [out_of_input[i] for i in stream[pos + 1:pos + 1 + n]]
+        pos += n + 1
+    bad += tuple(mapped) not in kept
+check(bad == 0, "every polyhedron is kept with its face stream, in the output's point ids (%d differ)" % bad)
+other = np.nonzero(types1 != VTK_HEXAHEDRON)[0]
+_, cells2 = cells_of(outp)
+check(all(np.array_equal(cells2[c], cells1[c]) for c in other) and
+      np.array_equal(np.asarray(outp.CellData["Region"]), region),
+      "the other %d cells and Region are the hexahedral run's" % len(other))
 
 artest.finish()

@@ -6,8 +6,9 @@
 For the Gmsh tetrahedral oblique shock and the OpenFOAM wedge (hexahedra),
 runs MPISensorsPipeline.py serially on the .vtu and on 2 ranks on a 2-piece
 .pvtu of it (SplitIntoPieces.py; GhostCellsGenerator), then compares, through the serial ids carried along,
-every owned cell's WeightFunction and ShockCells and every owned point's
-NormalMach with the serial values. Also checks that the data really was
+every owned cell's WeightFunction and ShockCells (bit for bit) and every
+owned point's NormalMach in the shock region (within 1e-15) with the serial
+values. Also checks that the data really was
 split over both ranks.
 """
 import os
@@ -73,15 +74,13 @@ for name in ("oblique_shock_unstructured.vtu", "wedge15Ma5.vtu"):
           % (name, len(np.unique(ids)), s.GetNumberOfCells()))
     sid = np.asarray(s.CellData["SerialCellId"])
     order = np.argsort(sid)
-    for array, exact in (("ShockCells", True), ("WeightFunction", False)):
+    # Both bit for bit: a cell's weight and its shock flag are its own
+    # points' values, whatever the partition.
+    for array in ("ShockCells", "WeightFunction"):
         a = np.asarray(p.CellData[array])[owned]
         b = np.asarray(s.CellData[array])[order][ids]
-        if exact:
-            check(np.array_equal(a, b), "%s: %s equal on every cell (%d shock cells, %d differ)"
-                  % (name, array, b.sum(), np.sum(a != b)))
-        else:
-            check(np.allclose(a, b, rtol=1e-10, atol=1e-12), "%s: %s equal within 1e-10 (max diff %.2e)"
-                  % (name, array, np.abs(a - b).max()))
+        check(np.array_equal(a, b), "%s: %s equal on every cell, bit for bit (%d nonzero, %d differ)"
+              % (name, array, np.count_nonzero(b), np.sum(a != b)))
 
     pg = np.asarray(p.PointData["vtkGhostType"]) if "vtkGhostType" in p.PointData.keys() else None
     owned_p = np.ones(p.GetNumberOfPoints(), dtype=bool) if pg is None else (pg & DUPLICATE) == 0
@@ -106,9 +105,12 @@ for name in ("oblique_shock_unstructured.vtu", "wedge15Ma5.vtu"):
     for c in np.where(W > 1.2)[0]:
         shock_pts[spid[conn[offsets[c]:offsets[c + 1]]]] = True
     sel = shock_pts[pids]
-    check(sel.sum() > 50 and np.allclose(a[sel], b[sel], rtol=1e-9, atol=1e-9),
-          "%s: NormalMach equal within 1e-9 at the %d points of the feature region (max diff %.2e)"
-          % (name, sel.sum(), np.abs(a[sel] - b[sel]).max() if sel.any() else -1))
+    # A point's gradient sums its cells in the order the piece numbers them,
+    # so a partition changes the last bit (README, "Reproducibility"): within
+    # 1e-15 (NormalMach is of order 1; measured 8.9e-16 at most).
+    check(sel.sum() > 50 and np.allclose(a[sel], b[sel], rtol=1e-15, atol=1e-15),
+          "%s: NormalMach equal within 1e-15 at the %d points of the feature region (max diff %.2e, %d differ)"
+          % (name, sel.sum(), np.abs(a[sel] - b[sel]).max() if sel.any() else -1, np.sum(a[sel] != b[sel])))
 
     # FeatureCluster: the point arrays at every owned point, and the medial
     # points (gathered on rank 0) equal the serial ones.

@@ -336,105 +336,243 @@ double Cross(const double* o, const double* a, const double* b)
   return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
-/// Builds the band around the chains (ARCavity2D.h: Normals, Heights).
-/// `shell`: the cavity's boundary edges (x0 y0 x1 y1).
-bool BuildBand(const std::vector<double>& x, const std::vector<Chain>& chains,
-  const std::vector<std::array<double, 4>>& shell, const PrismLayerOptions& o, const std::vector<double>& z,
-  Band& band, std::string& error)
+/**
+ * Builds the band around the chains (ARCavity2D.h: Normals, Heights): the
+ * inputs, the state the stages share, and the stages in the order they run
+ * (Execute): the normals, the heights (the full stack, the clearances, the
+ * grading), then rounds of the cells and their check until no column fails.
+ * `shell`: the cavity's boundary edges (x0 y0 x1 y1).
+ */
+class BandBuilder
 {
-  const std::size_t nCurve = x.size() / 2;
-  const int N = o.NumberOfLayers;
-  const double Z = z.back();
-  constexpr double Visible = 0.3;          // as ARPrismLayers: the dot a normal keeps with its segments
-  constexpr double MinHeightFraction = 1e-3; // as ARPrismLayers
-  constexpr int MaxRounds = 60;
-  band = Band();
-  band.Normal.assign(2 * nCurve, 0.0);
-  band.Height.assign(2 * nCurve, 0.0);
-  std::vector<std::array<double, 4>> segNormals(nCurve);
-  std::vector<int> segCount(nCurve, 0);
-  auto visibility = [&](std::int64_t i, const double* n) {
+public:
+  BandBuilder(const std::vector<double>& x_, const std::vector<Chain>& chains_,
+    const std::vector<std::array<double, 4>>& shell_, const PrismLayerOptions& o_, const std::vector<double>& z_,
+    Band& band_, std::string& error_)
+    : x(x_)
+    , chains(chains_)
+    , shell(shell_)
+    , o(o_)
+    , z(z_)
+    , band(band_)
+    , error(error_)
+    , nCurve(x_.size() / 2)
+    , N(o_.NumberOfLayers)
+    , Z(z_.back())
+  {
+  }
+
+  bool Execute();
+
+private:
+  void SegmentNormals(const Chain& c); ///< the unit normals of the segments at each node
+  bool NodeNormals(const Chain& c);    ///< the mean of a node's segments' normals
+  void SmoothNormals(const Chain& c);  ///< the Jacobi passes
+  void CornerFloor();
+  void FullHeights();            ///< the full stack, 0 at open ends (and on the - side without BothSides)
+  void ClearanceAlongNormals();  ///< GapFraction of the free distance along the normals
+  void ClearanceToOtherCurves(); ///< GapFraction of the distance to any other curve
+  void Grade();                  ///< |H_u - H_v| <= MaxHeightGradient |x_u - x_v|
+  void PlacePoints();            ///< the layer points of the current heights
+  void BuildCells();             ///< the layer cells, each checked
+  void CheckWalls();             ///< the outermost polylines cross nothing
+  bool Shrink(int round);        ///< the failing columns by 0.7
+  void CountLimited();
+
+  /// The smallest dot of `n` with the normals of node i's segments.
+  double Visibility(std::int64_t i, const double* n) const
+  {
     double v = 1.0;
     for (int k = 0; k < segCount[i]; ++k)
     {
       v = std::min(v, n[0] * segNormals[i][2 * k] + n[1] * segNormals[i][2 * k + 1]);
     }
     return v;
-  };
-  // ---- Normals.
-  for (const Chain& c : chains)
+  }
+  /// The band id of node i's layer boundary k on side s (k = 0: the node).
+  std::int64_t Id(std::int64_t i, int s, int k) const
   {
-    const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
-    for (std::size_t j = 0; j < nSeg; ++j)
+    return k == 0 || firstPoint[s * nCurve + i] < 0
+      ? i
+      : static_cast<std::int64_t>(nCurve) + firstPoint[s * nCurve + i] + k - 1;
+  }
+  const double* Position(std::int64_t b) const
+  {
+    return b < static_cast<std::int64_t>(nCurve) ? &x[2 * b] : &band.Points[2 * (b - nCurve)];
+  }
+  /// Columns a and b on side s fail (those of height > 0).
+  void Fail(std::int64_t a, std::int64_t b, int s)
+  {
+    for (const std::int64_t i : { a, b })
     {
-      const std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
-      const double dx = x[2 * b] - x[2 * a], dy = x[2 * b + 1] - x[2 * a + 1], l = std::hypot(dx, dy);
-      for (const std::int64_t i : { a, b })
+      if (band.Height[s * nCurve + i] > 0.0)
       {
-        segNormals[i][2 * segCount[i]] = -dy / l;
-        segNormals[i][2 * segCount[i] + 1] = dx / l;
-        ++segCount[i];
+        failing.insert(s * static_cast<std::int64_t>(nCurve) + i);
       }
     }
-    for (const std::int64_t i : c.Nodes)
+  }
+
+  static constexpr double Visible = 0.3;            // as ARPrismLayers: the dot a normal keeps with its segments
+  static constexpr double MinHeightFraction = 1e-3; // as ARPrismLayers
+  static constexpr int MaxRounds = 60;
+
+  // Inputs.
+  const std::vector<double>& x;
+  const std::vector<Chain>& chains;
+  const std::vector<std::array<double, 4>>& shell;
+  const PrismLayerOptions& o;
+  const std::vector<double>& z;
+  Band& band;
+  std::string& error;
+  const std::size_t nCurve;
+  const int N;
+  const double Z;
+  // Normals: per node the normals of its (one or two) segments.
+  std::vector<std::array<double, 4>> segNormals;
+  std::vector<int> segCount;
+  double cornerFloor = 0.05; // a layer quad's corner sine is at least this
+  // The rounds: per column (s * nCurve + i) its first layer point or -1; the
+  // failing columns; per wall its columns (a, b, side).
+  std::vector<std::int64_t> firstPoint;
+  std::set<std::int64_t> failing;
+  std::vector<std::array<std::int64_t, 3>> wallColumns;
+};
+
+bool BandBuilder::Execute()
+{
+  band = Band();
+  band.Normal.assign(2 * nCurve, 0.0);
+  band.Height.assign(2 * nCurve, 0.0);
+  segNormals.assign(nCurve, std::array<double, 4>{});
+  segCount.assign(nCurve, 0);
+  for (const Chain& c : chains)
+  {
+    SegmentNormals(c);
+    if (!NodeNormals(c))
     {
-      double n[2] = { 0.0, 0.0 };
-      for (int k = 0; k < segCount[i]; ++k)
+      return false;
+    }
+    SmoothNormals(c);
+  }
+  CornerFloor();
+  FullHeights();
+  ClearanceAlongNormals();
+  if (chains.size() > 1)
+  {
+    ClearanceToOtherCurves();
+  }
+  Grade();
+  firstPoint.assign(2 * nCurve, -1);
+  for (int round = 0;; ++round)
+  {
+    PlacePoints();
+    BuildCells();
+    CheckWalls();
+    if (failing.empty())
+    {
+      break;
+    }
+    if (!Shrink(round))
+    {
+      return false;
+    }
+    Grade();
+  }
+  CountLimited();
+  return true;
+}
+
+// ---- Normals.
+void BandBuilder::SegmentNormals(const Chain& c)
+{
+  const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
+  for (std::size_t j = 0; j < nSeg; ++j)
+  {
+    const std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
+    const double dx = x[2 * b] - x[2 * a], dy = x[2 * b + 1] - x[2 * a + 1], l = std::hypot(dx, dy);
+    for (const std::int64_t i : { a, b })
+    {
+      segNormals[i][2 * segCount[i]] = -dy / l;
+      segNormals[i][2 * segCount[i] + 1] = dx / l;
+      ++segCount[i];
+    }
+  }
+}
+
+bool BandBuilder::NodeNormals(const Chain& c)
+{
+  for (const std::int64_t i : c.Nodes)
+  {
+    double n[2] = { 0.0, 0.0 };
+    for (int k = 0; k < segCount[i]; ++k)
+    {
+      n[0] += segNormals[i][2 * k];
+      n[1] += segNormals[i][2 * k + 1];
+    }
+    const double l = std::hypot(n[0], n[1]);
+    if (!(l > 1e-9) || !(Visibility(i, n) / l > 0.0))
+    {
+      std::ostringstream msg;
+      msg << "layers: the feature curve turns back on itself at (" << x[2 * i] << ", " << x[2 * i + 1]
+          << "): no direction there sees both of its segments.";
+      error = msg.str();
+      return false;
+    }
+    band.Normal[2 * i] = n[0] / l;
+    band.Normal[2 * i + 1] = n[1] / l;
+  }
+  return true;
+}
+
+void BandBuilder::SmoothNormals(const Chain& c)
+{
+  const std::size_t m = c.Nodes.size();
+  for (int pass = 0; pass < o.NormalSmoothingIterations; ++pass)
+  {
+    const std::vector<double> old = band.Normal;
+    for (std::size_t j = 0; j < m; ++j)
+    {
+      if (!c.Closed && (j <= 1 || j + 2 >= m))
       {
-        n[0] += segNormals[i][2 * k];
-        n[1] += segNormals[i][2 * k + 1];
+        // An end is tapered to height 0 (its normal is not used); its
+        // neighbour keeps the mean of its segments' normals, exact on a
+        // circle, where a stencil through the end's would tilt it.
+        continue;
       }
+      const std::int64_t i = c.Nodes[j], p = c.Nodes[(j + m - 1) % m], q = c.Nodes[(j + 1) % m];
+      double n[2] = { old[2 * p] + 2.0 * old[2 * i] + old[2 * q], old[2 * p + 1] + 2.0 * old[2 * i + 1] + old[2 * q + 1] };
       const double l = std::hypot(n[0], n[1]);
-      if (!(l > 1e-9) || !(visibility(i, n) / l > 0.0))
+      if (!(l > 0.0))
       {
-        std::ostringstream msg;
-        msg << "layers: the feature curve turns back on itself at (" << x[2 * i] << ", " << x[2 * i + 1]
-            << "): no direction there sees both of its segments.";
-        error = msg.str();
-        return false;
+        continue;
       }
-      band.Normal[2 * i] = n[0] / l;
-      band.Normal[2 * i + 1] = n[1] / l;
-    }
-    for (int pass = 0; pass < o.NormalSmoothingIterations; ++pass)
-    {
-      const std::vector<double> old = band.Normal;
-      for (std::size_t j = 0; j < m; ++j)
+      n[0] /= l;
+      n[1] /= l;
+      if (Visibility(i, n) >= std::min(Visible, Visibility(i, &old[2 * i])))
       {
-        if (!c.Closed && (j <= 1 || j + 2 >= m))
-        {
-          // An end is tapered to height 0 (its normal is not used); its
-          // neighbour keeps the mean of its segments' normals, exact on a
-          // circle, where a stencil through the end's would tilt it.
-          continue;
-        }
-        const std::int64_t i = c.Nodes[j], p = c.Nodes[(j + m - 1) % m], q = c.Nodes[(j + 1) % m];
-        double n[2] = { old[2 * p] + 2.0 * old[2 * i] + old[2 * q], old[2 * p + 1] + 2.0 * old[2 * i + 1] + old[2 * q + 1] };
-        const double l = std::hypot(n[0], n[1]);
-        if (!(l > 0.0))
-        {
-          continue;
-        }
-        n[0] /= l;
-        n[1] /= l;
-        if (visibility(i, n) >= std::min(Visible, visibility(i, &old[2 * i])))
-        {
-          band.Normal[2 * i] = n[0];
-          band.Normal[2 * i + 1] = n[1];
-        }
+        band.Normal[2 * i] = n[0];
+        band.Normal[2 * i + 1] = n[1];
       }
     }
   }
-  // The corner floor: min(0.05, half the layer-0 corner sine the normals set).
-  double floor = 0.05;
+}
+
+// The corner floor: min(0.05, half the layer-0 corner sine the normals set).
+void BandBuilder::CornerFloor()
+{
+  cornerFloor = 0.05;
   for (const Chain& c : chains)
   {
     for (const std::int64_t i : c.Nodes)
     {
-      floor = std::min(floor, 0.5 * visibility(i, &band.Normal[2 * i]));
+      cornerFloor = std::min(cornerFloor, 0.5 * Visibility(i, &band.Normal[2 * i]));
     }
   }
-  // ---- Heights: the full stack, 0 at open ends (and on the - side without BothSides).
+}
+
+// ---- Heights.
+void BandBuilder::FullHeights()
+{
   for (const Chain& c : chains)
   {
     for (std::size_t j = 0; j < c.Nodes.size(); ++j)
@@ -445,328 +583,327 @@ bool BuildBand(const std::vector<double>& x, const std::vector<Chain>& chains,
       band.Height[nCurve + i] = end || !o.BothSides ? 0.0 : Z;
     }
   }
-  // Clearance along the normals: GapFraction of the free distance to the
-  // cavity's boundary and to the curves (segments at the node skipped).
+}
+
+// Clearance along the normals: GapFraction of the free distance to the
+// cavity's boundary and to the curves (segments at the node skipped).
+void BandBuilder::ClearanceAlongNormals()
+{
+  std::vector<Segment3> segments;
+  std::vector<std::array<std::int64_t, 2>> ends; // curve segments' nodes; -1 for the shell
+  for (const auto& e : shell)
   {
-    std::vector<Segment3> segments;
-    std::vector<std::array<std::int64_t, 2>> ends; // curve segments' nodes; -1 for the shell
-    for (const auto& e : shell)
+    segments.emplace_back(Point3(e[0], e[1], 0.0), Point3(e[2], e[3], 0.0));
+    ends.push_back({ -1, -1 });
+  }
+  for (const Chain& c : chains)
+  {
+    const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
+    for (std::size_t j = 0; j < nSeg; ++j)
     {
-      segments.emplace_back(Point3(e[0], e[1], 0.0), Point3(e[2], e[3], 0.0));
-      ends.push_back({ -1, -1 });
+      const std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
+      segments.emplace_back(Point3(x[2 * a], x[2 * a + 1], 0.0), Point3(x[2 * b], x[2 * b + 1], 0.0));
+      ends.push_back({ a, b });
     }
-    for (const Chain& c : chains)
+  }
+  BoundaryTree tree(segments.begin(), segments.end());
+  std::vector<BoundaryTree::Primitive_id> hits;
+  const double reach = Z / o.GapFraction;
+  for (std::size_t i = 0; i < nCurve; ++i)
+  {
+    for (int s = 0; s < 2; ++s)
     {
-      const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
-      for (std::size_t j = 0; j < nSeg; ++j)
+      double& h = band.Height[s * nCurve + i];
+      if (!(h > 0.0))
       {
-        const std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
-        segments.emplace_back(Point3(x[2 * a], x[2 * a + 1], 0.0), Point3(x[2 * b], x[2 * b + 1], 0.0));
-        ends.push_back({ a, b });
+        continue;
       }
-    }
-    BoundaryTree tree(segments.begin(), segments.end());
-    std::vector<BoundaryTree::Primitive_id> hits;
-    const double reach = Z / o.GapFraction;
-    for (std::size_t i = 0; i < nCurve; ++i)
-    {
-      for (int s = 0; s < 2; ++s)
+      const double sign = s == 0 ? 1.0 : -1.0;
+      const double d[2] = { sign * band.Normal[2 * i], sign * band.Normal[2 * i + 1] };
+      const double* p = &x[2 * i];
+      hits.clear();
+      tree.all_intersected_primitives(
+        Segment3(Point3(p[0], p[1], 0.0), Point3(p[0] + reach * d[0], p[1] + reach * d[1], 0.0)),
+        std::back_inserter(hits));
+      double free = reach;
+      for (const auto& hit : hits)
       {
-        double& h = band.Height[s * nCurve + i];
-        if (!(h > 0.0))
+        const std::size_t k = static_cast<std::size_t>(hit - segments.begin());
+        if (ends[k][0] == static_cast<std::int64_t>(i) || ends[k][1] == static_cast<std::int64_t>(i))
         {
           continue;
         }
-        const double sign = s == 0 ? 1.0 : -1.0;
-        const double d[2] = { sign * band.Normal[2 * i], sign * band.Normal[2 * i + 1] };
-        const double* p = &x[2 * i];
-        hits.clear();
-        tree.all_intersected_primitives(
-          Segment3(Point3(p[0], p[1], 0.0), Point3(p[0] + reach * d[0], p[1] + reach * d[1], 0.0)),
-          std::back_inserter(hits));
-        double free = reach;
-        for (const auto& hit : hits)
+        // p + t d on the segment a + u (b - a): t by Cramer's rule.
+        const double ax = hit->source().x(), ay = hit->source().y();
+        const double ex = hit->target().x() - ax, ey = hit->target().y() - ay;
+        const double det = d[0] * (-ey) - d[1] * (-ex);
+        if (std::abs(det) < 1e-300)
         {
-          const std::size_t k = static_cast<std::size_t>(hit - segments.begin());
-          if (ends[k][0] == static_cast<std::int64_t>(i) || ends[k][1] == static_cast<std::int64_t>(i))
-          {
-            continue;
-          }
-          // p + t d on the segment a + u (b - a): t by Cramer's rule.
-          const double ax = hit->source().x(), ay = hit->source().y();
-          const double ex = hit->target().x() - ax, ey = hit->target().y() - ay;
-          const double det = d[0] * (-ey) - d[1] * (-ex);
-          if (std::abs(det) < 1e-300)
-          {
-            free = std::min(free, std::hypot(ax - p[0], ay - p[1])); // along the ray
-            continue;
-          }
-          const double rx = ax - p[0], ry = ay - p[1];
-          const double t = (rx * (-ey) - ry * (-ex)) / det;
-          free = std::min(free, std::max(0.0, t));
+          free = std::min(free, std::hypot(ax - p[0], ay - p[1])); // along the ray
+          continue;
         }
-        h = std::min(h, o.GapFraction * free);
+        const double rx = ax - p[0], ry = ay - p[1];
+        const double t = (rx * (-ey) - ry * (-ex)) / det;
+        free = std::min(free, std::max(0.0, t));
       }
+      h = std::min(h, o.GapFraction * free);
     }
   }
-  // And GapFraction of the distance to any other curve, in every direction:
-  // where two curves come close at a small angle, or one ends next to
-  // another, the rays along the normals can miss it, and the two bands'
-  // outlines would leave the refill only needles between them (0.001
-  // degrees, seen on a second cycle whose shock was fitted in two pieces).
-  if (chains.size() > 1)
+}
+
+// And GapFraction of the distance to any other curve, in every direction:
+// where two curves come close at a small angle, or one ends next to
+// another, the rays along the normals can miss it, and the two bands'
+// outlines would leave the refill only needles between them (0.001
+// degrees, seen on a second cycle whose shock was fitted in two pieces).
+void BandBuilder::ClearanceToOtherCurves()
+{
+  std::vector<std::vector<Segment3>> pieces(chains.size());
+  for (std::size_t c = 0; c < chains.size(); ++c)
   {
-    std::vector<std::vector<Segment3>> pieces(chains.size());
-    for (std::size_t c = 0; c < chains.size(); ++c)
+    const std::vector<std::int64_t>& v = chains[c].Nodes;
+    const std::size_t m = v.size(), nSeg = chains[c].Closed ? m : m - 1;
+    for (std::size_t j = 0; j < nSeg; ++j)
     {
-      const std::vector<std::int64_t>& v = chains[c].Nodes;
-      const std::size_t m = v.size(), nSeg = chains[c].Closed ? m : m - 1;
-      for (std::size_t j = 0; j < nSeg; ++j)
-      {
-        const double* a = &x[2 * v[j]];
-        const double* b = &x[2 * v[(j + 1) % m]];
-        pieces[c].emplace_back(Point3(a[0], a[1], 0.0), Point3(b[0], b[1], 0.0));
-      }
-    }
-    std::vector<BoundaryTree> trees(chains.size());
-    for (std::size_t c = 0; c < chains.size(); ++c)
-    {
-      trees[c].insert(pieces[c].begin(), pieces[c].end());
-      trees[c].build();
-      trees[c].accelerate_distance_queries();
-    }
-    for (std::size_t c = 0; c < chains.size(); ++c)
-    {
-      for (const std::int64_t i : chains[c].Nodes)
-      {
-        const Point3 p(x[2 * i], x[2 * i + 1], 0.0);
-        for (std::size_t d = 0; d < chains.size(); ++d)
-        {
-          if (d == c)
-          {
-            continue;
-          }
-          const double gap = o.GapFraction * std::sqrt(CGAL::to_double(trees[d].squared_distance(p)));
-          band.Height[i] = std::min(band.Height[i], gap);
-          band.Height[nCurve + i] = std::min(band.Height[nCurve + i], gap);
-        }
-      }
+      const double* a = &x[2 * v[j]];
+      const double* b = &x[2 * v[(j + 1) % m]];
+      pieces[c].emplace_back(Point3(a[0], a[1], 0.0), Point3(b[0], b[1], 0.0));
     }
   }
-  // Grading along each chain (both directions until nothing changes; it only lowers).
-  auto grade = [&]() {
-    for (const Chain& c : chains)
-    {
-      const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
-      for (int s = 0; s < 2; ++s)
-      {
-        double* H = &band.Height[s * nCurve];
-        for (bool changed = true; changed;)
-        {
-          changed = false;
-          for (int dir = 0; dir < 2; ++dir)
-          {
-            for (std::size_t jj = 0; jj < nSeg; ++jj)
-            {
-              const std::size_t j = dir == 0 ? jj : nSeg - 1 - jj;
-              std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
-              if (dir == 1)
-              {
-                std::swap(a, b);
-              }
-              const double limit = H[a] + o.MaxHeightGradient * Distance(&x[2 * a], &x[2 * b]);
-              if (H[b] > limit)
-              {
-                H[b] = limit;
-                changed = true;
-              }
-            }
-          }
-        }
-      }
-    }
-  };
-  grade();
-  // ---- The cells and the check; failing columns shrink by 0.7.
-  std::vector<std::int64_t> firstPoint(2 * nCurve, -1);
-  auto id = [&](std::int64_t i, int s, int k) -> std::int64_t {
-    return k == 0 || firstPoint[s * nCurve + i] < 0 ? i : static_cast<std::int64_t>(nCurve) + firstPoint[s * nCurve + i] + k - 1;
-  };
-  auto position = [&](std::int64_t b) -> const double* {
-    return b < static_cast<std::int64_t>(nCurve) ? &x[2 * b] : &band.Points[2 * (b - nCurve)];
-  };
-  for (int round = 0;; ++round)
+  std::vector<BoundaryTree> trees(chains.size());
+  for (std::size_t c = 0; c < chains.size(); ++c)
   {
-    band.Points.clear();
-    band.PointNode.clear();
-    std::fill(firstPoint.begin(), firstPoint.end(), -1);
-    for (std::size_t i = 0; i < nCurve; ++i)
+    trees[c].insert(pieces[c].begin(), pieces[c].end());
+    trees[c].build();
+    trees[c].accelerate_distance_queries();
+  }
+  for (std::size_t c = 0; c < chains.size(); ++c)
+  {
+    for (const std::int64_t i : chains[c].Nodes)
     {
-      for (int s = 0; s < 2; ++s)
+      const Point3 p(x[2 * i], x[2 * i + 1], 0.0);
+      for (std::size_t d = 0; d < chains.size(); ++d)
       {
-        const double h = band.Height[s * nCurve + i];
-        if (!(h > 0.0) || segCount[i] == 0)
+        if (d == c)
         {
           continue;
         }
-        firstPoint[s * nCurve + i] = static_cast<std::int64_t>(band.PointNode.size());
-        const double sign = s == 0 ? 1.0 : -1.0;
-        for (int k = 1; k <= N; ++k)
-        {
-          const double t = sign * h * z[k] / Z;
-          band.Points.push_back(x[2 * i] + t * band.Normal[2 * i]);
-          band.Points.push_back(x[2 * i + 1] + t * band.Normal[2 * i + 1]);
-          band.PointNode.push_back(static_cast<std::int64_t>(i));
-        }
+        const double gap = o.GapFraction * std::sqrt(CGAL::to_double(trees[d].squared_distance(p)));
+        band.Height[i] = std::min(band.Height[i], gap);
+        band.Height[nCurve + i] = std::min(band.Height[nCurve + i], gap);
       }
     }
-    band.Cells.clear();
-    band.CellLayer.clear();
-    band.CellSide.clear();
-    band.Walls.clear();
-    band.Quads = band.Triangles = 0;
-    std::set<std::int64_t> failing; // columns s * nCurve + i
-    auto fail = [&](std::int64_t a, std::int64_t b, int s) {
-      for (const std::int64_t i : { a, b })
-      {
-        if (band.Height[s * nCurve + i] > 0.0)
-        {
-          failing.insert(s * static_cast<std::int64_t>(nCurve) + i);
-        }
-      }
-    };
-    std::vector<std::array<std::int64_t, 3>> wallColumns; // per wall: a, b, side
-    for (const Chain& c : chains)
+  }
+}
+
+// Grading along each chain (both directions until nothing changes; it only lowers).
+void BandBuilder::Grade()
+{
+  for (const Chain& c : chains)
+  {
+    const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
+    for (int s = 0; s < 2; ++s)
     {
-      const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
-      for (std::size_t j = 0; j < nSeg; ++j)
+      double* H = &band.Height[s * nCurve];
+      for (bool changed = true; changed;)
       {
-        const std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
-        for (int s = 0; s < 2; ++s)
+        changed = false;
+        for (int dir = 0; dir < 2; ++dir)
         {
-          band.Walls.push_back({ id(a, s, N), id(b, s, N) });
-          wallColumns.push_back({ a, b, s });
-          if (!(band.Height[s * nCurve + a] > 0.0) && !(band.Height[s * nCurve + b] > 0.0))
+          for (std::size_t jj = 0; jj < nSeg; ++jj)
           {
-            continue;
-          }
-          for (int k = 0; k < N; ++k)
-          {
-            std::vector<std::int64_t> ring = s == 0
-              ? std::vector<std::int64_t>{ id(a, 0, k), id(b, 0, k), id(b, 0, k + 1), id(a, 0, k + 1) }
-              : std::vector<std::int64_t>{ id(a, 1, k), id(a, 1, k + 1), id(b, 1, k + 1), id(b, 1, k) };
-            std::vector<std::int64_t> cell;
-            for (std::size_t r = 0; r < ring.size(); ++r)
+            const std::size_t j = dir == 0 ? jj : nSeg - 1 - jj;
+            std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
+            if (dir == 1)
             {
-              if (ring[r] != ring[(r + 1) % ring.size()])
-              {
-                cell.push_back(ring[r]);
-              }
+              std::swap(a, b);
             }
-            const std::size_t n = cell.size();
-            bool ok = n >= 3;
-            for (std::size_t r = 0; ok && r < n; ++r)
+            const double limit = H[a] + o.MaxHeightGradient * Distance(&x[2 * a], &x[2 * b]);
+            if (H[b] > limit)
             {
-              const double* p = position(cell[r]);
-              const double* q = position(cell[(r + 1) % n]);
-              const double* w = position(cell[(r + n - 1) % n]);
-              const double scale = Distance(p, q) * Distance(p, w);
-              const double sine = Cross(p, q, w) / scale;
-              ok = n == 4 ? sine >= floor : (sine > 0.0 && scale > 0.0);
+              H[b] = limit;
+              changed = true;
             }
-            if (!ok)
-            {
-              fail(a, b, s);
-            }
-            band.Cells.push_back(cell);
-            band.CellLayer.push_back(k);
-            band.CellSide.push_back(s == 0 ? 1 : -1);
-            ++(n == 4 ? band.Quads : band.Triangles);
           }
         }
       }
     }
-    // The outermost polylines cross neither each other nor the cavity's boundary.
+  }
+}
+
+// ---- The rounds: the cells and the check; failing columns shrink by 0.7.
+void BandBuilder::PlacePoints()
+{
+  band.Points.clear();
+  band.PointNode.clear();
+  std::fill(firstPoint.begin(), firstPoint.end(), -1);
+  for (std::size_t i = 0; i < nCurve; ++i)
+  {
+    for (int s = 0; s < 2; ++s)
     {
-      using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::size_t>;
-      std::vector<Box> boxes;
-      std::vector<std::array<double, 4>> all;
-      for (const auto& w : band.Walls)
+      const double h = band.Height[s * nCurve + i];
+      if (!(h > 0.0) || segCount[i] == 0)
       {
-        const double* p = position(w[0]);
-        const double* q = position(w[1]);
-        all.push_back({ p[0], p[1], q[0], q[1] });
+        continue;
       }
-      all.insert(all.end(), shell.begin(), shell.end());
-      for (std::size_t k = 0; k < all.size(); ++k)
+      firstPoint[s * nCurve + i] = static_cast<std::int64_t>(band.PointNode.size());
+      const double sign = s == 0 ? 1.0 : -1.0;
+      for (int k = 1; k <= N; ++k)
       {
-        const auto& e = all[k];
-        boxes.emplace_back(CGAL::Bbox_2(std::min(e[0], e[2]), std::min(e[1], e[3]), std::max(e[0], e[2]),
-                             std::max(e[1], e[3])),
-          k);
+        const double t = sign * h * z[k] / Z;
+        band.Points.push_back(x[2 * i] + t * band.Normal[2 * i]);
+        band.Points.push_back(x[2 * i + 1] + t * band.Normal[2 * i + 1]);
+        band.PointNode.push_back(static_cast<std::int64_t>(i));
       }
-      const std::size_t nWalls = band.Walls.size();
-      CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& u, const Box& v) {
-        std::size_t i = u.info(), j = v.info();
-        if (i >= nWalls && j >= nWalls)
+    }
+  }
+}
+
+void BandBuilder::BuildCells()
+{
+  band.Cells.clear();
+  band.CellLayer.clear();
+  band.CellSide.clear();
+  band.Walls.clear();
+  band.Quads = band.Triangles = 0;
+  failing.clear();
+  wallColumns.clear();
+  for (const Chain& c : chains)
+  {
+    const std::size_t m = c.Nodes.size(), nSeg = c.Closed ? m : m - 1;
+    for (std::size_t j = 0; j < nSeg; ++j)
+    {
+      const std::int64_t a = c.Nodes[j], b = c.Nodes[(j + 1) % m];
+      for (int s = 0; s < 2; ++s)
+      {
+        band.Walls.push_back({ Id(a, s, N), Id(b, s, N) });
+        wallColumns.push_back({ a, b, s });
+        if (!(band.Height[s * nCurve + a] > 0.0) && !(band.Height[s * nCurve + b] > 0.0))
         {
-          return; // two edges of the kept mesh
+          continue;
         }
-        if (i > j)
+        for (int k = 0; k < N; ++k)
         {
-          std::swap(i, j);
-        }
-        if (j < nWalls)
-        {
-          const auto& a = band.Walls[i];
-          const auto& b = band.Walls[j];
-          if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1])
+          std::vector<std::int64_t> ring = s == 0
+            ? std::vector<std::int64_t>{ Id(a, 0, k), Id(b, 0, k), Id(b, 0, k + 1), Id(a, 0, k + 1) }
+            : std::vector<std::int64_t>{ Id(a, 1, k), Id(a, 1, k + 1), Id(b, 1, k + 1), Id(b, 1, k) };
+          std::vector<std::int64_t> cell;
+          for (std::size_t r = 0; r < ring.size(); ++r)
           {
-            return; // neighbours along a polyline, or the two sides meeting at an end
-          }
-        }
-        const K::Segment_2 si(Point2(all[i][0], all[i][1]), Point2(all[i][2], all[i][3]));
-        const K::Segment_2 sj(Point2(all[j][0], all[j][1]), Point2(all[j][2], all[j][3]));
-        if (CGAL::do_intersect(si, sj))
-        {
-          for (const std::size_t k : { i, j })
-          {
-            if (k < nWalls)
+            if (ring[r] != ring[(r + 1) % ring.size()])
             {
-              fail(wallColumns[k][0], wallColumns[k][1], static_cast<int>(wallColumns[k][2]));
+              cell.push_back(ring[r]);
             }
           }
+          const std::size_t n = cell.size();
+          bool ok = n >= 3;
+          for (std::size_t r = 0; ok && r < n; ++r)
+          {
+            const double* p = Position(cell[r]);
+            const double* q = Position(cell[(r + 1) % n]);
+            const double* w = Position(cell[(r + n - 1) % n]);
+            const double scale = Distance(p, q) * Distance(p, w);
+            const double sine = Cross(p, q, w) / scale;
+            ok = n == 4 ? sine >= cornerFloor : (sine > 0.0 && scale > 0.0);
+          }
+          if (!ok)
+          {
+            Fail(a, b, s);
+          }
+          band.Cells.push_back(cell);
+          band.CellLayer.push_back(k);
+          band.CellSide.push_back(s == 0 ? 1 : -1);
+          ++(n == 4 ? band.Quads : band.Triangles);
         }
-      });
+      }
     }
-    if (failing.empty())
+  }
+}
+
+// The outermost polylines cross neither each other nor the cavity's boundary.
+void BandBuilder::CheckWalls()
+{
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::size_t>;
+  std::vector<Box> boxes;
+  std::vector<std::array<double, 4>> all;
+  for (const auto& w : band.Walls)
+  {
+    const double* p = Position(w[0]);
+    const double* q = Position(w[1]);
+    all.push_back({ p[0], p[1], q[0], q[1] });
+  }
+  all.insert(all.end(), shell.begin(), shell.end());
+  for (std::size_t k = 0; k < all.size(); ++k)
+  {
+    const auto& e = all[k];
+    boxes.emplace_back(CGAL::Bbox_2(std::min(e[0], e[2]), std::min(e[1], e[3]), std::max(e[0], e[2]),
+                         std::max(e[1], e[3])),
+      k);
+  }
+  const std::size_t nWalls = band.Walls.size();
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& u, const Box& v) {
+    std::size_t i = u.info(), j = v.info();
+    if (i >= nWalls && j >= nWalls)
     {
-      break;
+      return; // two edges of the kept mesh
     }
-    if (round >= MaxRounds)
+    if (i > j)
     {
-      error = "layers: the layer cells could not be made valid in " + std::to_string(MaxRounds) + " rounds.";
+      std::swap(i, j);
+    }
+    if (j < nWalls)
+    {
+      const auto& a = band.Walls[i];
+      const auto& b = band.Walls[j];
+      if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1])
+      {
+        return; // neighbours along a polyline, or the two sides meeting at an end
+      }
+    }
+    const K::Segment_2 si(Point2(all[i][0], all[i][1]), Point2(all[i][2], all[i][3]));
+    const K::Segment_2 sj(Point2(all[j][0], all[j][1]), Point2(all[j][2], all[j][3]));
+    if (CGAL::do_intersect(si, sj))
+    {
+      for (const std::size_t k : { i, j })
+      {
+        if (k < nWalls)
+        {
+          Fail(wallColumns[k][0], wallColumns[k][1], static_cast<int>(wallColumns[k][2]));
+        }
+      }
+    }
+  });
+}
+
+bool BandBuilder::Shrink(int round)
+{
+  if (round >= MaxRounds)
+  {
+    error = "layers: the layer cells could not be made valid in " + std::to_string(MaxRounds) + " rounds.";
+    return false;
+  }
+  ++band.Rounds;
+  for (const std::int64_t col : failing)
+  {
+    band.Height[col] *= 0.7;
+    if (band.Height[col] < MinHeightFraction * Z)
+    {
+      const std::int64_t i = col % static_cast<std::int64_t>(nCurve);
+      std::ostringstream msg;
+      msg << "layers: the stack at (" << x[2 * i] << ", " << x[2 * i + 1] << ") on its "
+          << (col < static_cast<std::int64_t>(nCurve) ? "+" : "-")
+          << " side would have to shrink below 1e-3 of its height " << Z
+          << " to stay valid (a fold, or the cavity's boundary or another curve in the way); lower the "
+             "layers' thickness or raise RemovalFactor.";
+      error = msg.str();
       return false;
     }
-    ++band.Rounds;
-    for (const std::int64_t col : failing)
-    {
-      band.Height[col] *= 0.7;
-      if (band.Height[col] < MinHeightFraction * Z)
-      {
-        const std::int64_t i = col % static_cast<std::int64_t>(nCurve);
-        std::ostringstream msg;
-        msg << "layers: the stack at (" << x[2 * i] << ", " << x[2 * i + 1] << ") on its "
-            << (col < static_cast<std::int64_t>(nCurve) ? "+" : "-")
-            << " side would have to shrink below 1e-3 of its height " << Z
-            << " to stay valid (a fold, or the cavity's boundary or another curve in the way); lower the "
-               "layers' thickness or raise RemovalFactor.";
-        error = msg.str();
-        return false;
-      }
-    }
-    grade();
   }
+  return true;
+}
+
+void BandBuilder::CountLimited()
+{
   for (const Chain& c : chains)
   {
     for (const std::int64_t i : c.Nodes)
@@ -777,7 +914,15 @@ bool BuildBand(const std::vector<double>& x, const std::vector<Chain>& chains,
       }
     }
   }
-  return true;
+}
+
+/// The band around the chains (BandBuilder).
+bool BuildBand(const std::vector<double>& x, const std::vector<Chain>& chains,
+  const std::vector<std::array<double, 4>>& shell, const PrismLayerOptions& o, const std::vector<double>& z,
+  Band& band, std::string& error)
+{
+  BandBuilder builder(x, chains, shell, o, z, band, error);
+  return builder.Execute();
 }
 }
 

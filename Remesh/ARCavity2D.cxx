@@ -924,16 +924,180 @@ bool BuildBand(const std::vector<double>& x, const std::vector<Chain>& chains,
   BandBuilder builder(x, chains, shell, o, z, band, error);
   return builder.Execute();
 }
-}
 
-bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t nCurvePoints,
-  const std::int64_t* curveSegments, std::size_t nCurveSegments, const Cavity2DOptions& options,
-  Cavity2DRemesh& out, std::string& error)
+/**
+ * One RemeshLocalCavity2D run: the inputs, the state its stages share, and
+ * the stages in the order they run (Execute), each a step of the header's
+ * algorithm; as CavityRun does for the 3-D cavity.
+ */
+class Cavity2DRun
+{
+public:
+  Cavity2DRun(const Mesh2D& v, const double* curvePoints_, std::size_t nCurvePoints_,
+    const std::int64_t* curveSegments_, std::size_t nCurveSegments_, const Cavity2DOptions& options_,
+    Cavity2DRemesh& out_, std::string& error_)
+    : V(v)
+    , curvePoints(curvePoints_)
+    , nCurvePoints(nCurvePoints_)
+    , curveSegments(curveSegments_)
+    , nCurveSegments(nCurveSegments_)
+    , options(options_)
+    , out(out_)
+    , error(error_)
+    , nV(v.NumberOfPoints())
+    , nC(v.NumberOfCells())
+    , X(v.Points.data())
+  {
+  }
+
+  bool Execute();
+
+private:
+  bool Validate();                ///< the inputs' sizes, coordinates and curve ids
+  bool CheckLayerOptions();       ///< before any work
+  bool ValidateCells();           ///< triangles and quads, convex and counter-clockwise
+  bool MeasureEdges();            ///< the edges' cells (conforming), l_v and the mean edge at V's nodes
+  void MeasureCurve();            ///< l_c at the curves' nodes
+  void BuildBoundaryTree();       ///< V's boundary edges
+  bool TrimCurves();              ///< inside V and BoundaryMargin from its boundary
+  bool CheckCurvesCross();
+  void MarkRemovedNodes();
+  bool MarkCavity();              ///< cells touching removed nodes
+  void BuildShell();              ///< the cavity's boundary edges and their nodes
+  bool CheckCurvesInsideCavity(); ///< no curve crosses the cavity's boundary
+  bool BuildLayers();             ///< the band (options.Layers on)
+  void CollectConstraints();      ///< the constrained nodes and edges after the shell
+  bool Triangulate();             ///< the constrained triangulation and the size field's background
+  void MarkDomain();              ///< the faces inside the cavity
+  bool CheckConstraintsInDomain();
+  bool Refine();
+  void OutputPoints();            ///< kept, the band's, the refinement's
+  void OutputKeptCells();
+  void OutputLayerCells();
+  void OutputTriangles();         ///< the new triangles and the curve
+
+  const double* BandPoint(std::int64_t b) const
+  {
+    return b < static_cast<std::int64_t>(nCurve) ? &cPoints[2 * b] : &band.Points[2 * (b - nCurve)];
+  }
+  std::int64_t BandNode(std::int64_t b) const
+  {
+    return b < static_cast<std::int64_t>(nCurve) ? b : band.PointNode[b - nCurve];
+  }
+  /// The output id of a vertex of the refined triangulation.
+  std::int64_t OutputId(CDT::Vertex_handle v) const
+  {
+    const std::int64_t id = v->info().Id;
+    if (id < nShellNodes)
+    {
+      return outIndex[plcNode[id]];
+    }
+    if (id < nConstrained)
+    {
+      return firstBand + extra[id - nShellNodes];
+    }
+    return firstSteiner + id - nConstrained;
+  }
+
+  // Inputs.
+  const Mesh2D& V;
+  const double* curvePoints;
+  const std::size_t nCurvePoints;
+  const std::int64_t* curveSegments;
+  const std::size_t nCurveSegments;
+  const Cavity2DOptions& options;
+  Cavity2DRemesh& out;
+  std::string& error;
+  const std::size_t nV, nC;
+  const double* X; // V's points
+  // Layer options.
+  bool layers = false;
+  double stackHeight = 0.0; // z_N: added to the removal radius
+  // Edges: the longest and the sum of the edges at each node of V and their
+  // count; the longest at each curve node; edge (a < b) -> the cells holding it.
+  std::vector<double> lv, sum, lc;
+  std::vector<int> count;
+  std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::int64_t>> edges;
+  // V's boundary.
+  std::vector<Segment3> boundary;
+  BoundaryTree tree;
+  // The trimmed curves: nodes, l_c there, segments (pairs of node ids), as 2-D segments.
+  std::vector<double> cPoints, cSize;
+  std::vector<std::int64_t> cSegs;
+  std::size_t nCurve = 0;
+  std::vector<std::array<double, 4>> curveList;
+  // Removal and the cavity.
+  std::vector<char> removed, cavity;
+  std::vector<std::int64_t> plcIndex;                       // node -> index among the constrained nodes
+  std::vector<std::int64_t> plcNode;                        // and back
+  std::vector<std::pair<std::int64_t, std::int64_t>> shell; // cavity-boundary edges, constrained-node ids
+  std::int64_t nShellNodes = 0;
+  // Layers.
+  Band band;
+  // The constrained nodes after the cavity's boundary ("extra"), as band
+  // ids (curve nodes 0 .. nCurve-1, then layer points): the curve nodes, or
+  // with layers the outermost polylines' nodes; and the constraints that
+  // bound the refill ("walls": the cavity's boundary, the band's outline).
+  std::vector<std::int64_t> extra;
+  std::vector<std::pair<std::int64_t, std::int64_t>> inner, walls; // band ids
+  std::int64_t nBand = 0;
+  std::vector<std::int64_t> extraOf; // band id -> CDT id
+  std::int64_t nConstrained = 0;
+  // The refill.
+  CDT cdt;
+  Background background;
+  std::vector<CDT::Vertex_handle> handle;
+  // Output: V's node -> output id; the first band point's and refinement point's output ids.
+  std::vector<std::int64_t> outIndex;
+  std::int64_t firstBand = 0, firstSteiner = 0;
+};
+
+bool Cavity2DRun::Execute()
 {
   out = Cavity2DRemesh();
-  const std::size_t nV = V.NumberOfPoints();
-  const std::size_t nC = V.NumberOfCells();
-  // ---- Validation.
+  if (!Validate() || !CheckLayerOptions() || !ValidateCells() || !MeasureEdges())
+  {
+    return false;
+  }
+  MeasureCurve();
+  BuildBoundaryTree();
+  if (!TrimCurves() || !CheckCurvesCross())
+  {
+    return false;
+  }
+  MarkRemovedNodes();
+  if (!MarkCavity())
+  {
+    return false;
+  }
+  BuildShell();
+  if (!CheckCurvesInsideCavity() || !BuildLayers())
+  {
+    return false;
+  }
+  CollectConstraints();
+  if (!Triangulate())
+  {
+    return false;
+  }
+  MarkDomain();
+  if (!CheckConstraintsInDomain() || !Refine())
+  {
+    return false;
+  }
+  OutputPoints();
+  OutputKeptCells();
+  if (layers)
+  {
+    OutputLayerCells();
+  }
+  OutputTriangles();
+  return true;
+}
+
+// ---- Validation.
+bool Cavity2DRun::Validate()
+{
   if (nV < 3 || nC == 0 || V.Offsets.front() != 0 ||
     V.Offsets.back() != static_cast<std::int64_t>(V.Connectivity.size()))
   {
@@ -963,9 +1127,12 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       return false;
     }
   }
-  // ---- Layer options (checked before any work).
-  const bool layers = options.Layers.NumberOfLayers != 0;
-  double stackHeight = 0.0; // z_N: added to the removal radius
+  return true;
+}
+
+bool Cavity2DRun::CheckLayerOptions()
+{
+  layers = options.Layers.NumberOfLayers != 0;
   if (layers)
   {
     std::string why;
@@ -976,7 +1143,11 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     }
     stackHeight = out.LayerDistances.back();
   }
-  const double* X = V.Points.data();
+  return true;
+}
+
+bool Cavity2DRun::ValidateCells()
+{
   for (std::size_t c = 0; c < nC; ++c)
   {
     const std::int64_t n = V.Offsets[c + 1] - V.Offsets[c];
@@ -1014,12 +1185,15 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       return false;
     }
   }
+  return true;
+}
 
-  // ---- Edges: the longest and the mean edge at each node; adjacency.
-  std::vector<double> lv(nV, 0.0), sum(nV, 0.0), lc(nCurvePoints, 0.0);
-  std::vector<int> count(nV, 0);
-  // edge (a < b) -> the cells holding it
-  std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::int64_t>> edges;
+// ---- Edges: the longest and the mean edge at each node; adjacency.
+bool Cavity2DRun::MeasureEdges()
+{
+  lv.assign(nV, 0.0);
+  sum.assign(nV, 0.0);
+  count.assign(nV, 0);
   for (std::size_t c = 0; c < nC; ++c)
   {
     const std::int64_t n = V.Offsets[c + 1] - V.Offsets[c];
@@ -1046,6 +1220,12 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       }
     }
   }
+  return true;
+}
+
+void Cavity2DRun::MeasureCurve()
+{
+  lc.assign(nCurvePoints, 0.0);
   for (std::size_t s = 0; s < nCurveSegments; ++s)
   {
     const std::int64_t a = curveSegments[2 * s], b = curveSegments[2 * s + 1];
@@ -1053,7 +1233,10 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     lc[a] = std::max(lc[a], l);
     lc[b] = std::max(lc[b], l);
   }
-  std::vector<Segment3> boundary;
+}
+
+void Cavity2DRun::BuildBoundaryTree()
+{
   for (const auto& e : edges)
   {
     if (e.second.size() == 1)
@@ -1063,17 +1246,20 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       boundary.emplace_back(Point3(a[0], a[1], 0.0), Point3(b[0], b[1], 0.0));
     }
   }
-  BoundaryTree tree(boundary.begin(), boundary.end());
+  tree.rebuild(boundary.begin(), boundary.end());
   tree.accelerate_distance_queries();
+}
 
-  // ---- Trim the curves: inside V and at least BoundaryMargin * max(l_c, l_b)
-  // from its boundary, l_b the length of the nearest boundary edge (the kept
-  // mesh's size there, capped by V's longest edge), as the 3-D cavity does.
-  // With the curve finer than V next to the boundary (a second cycle: the
-  // first refined the cells at the curve but kept the long wall edges) a gap
-  // of BoundaryMargin curve edges against a wall edge five times longer left
-  // the refill only fans of needles there (1 degree), since no boundary edge
-  // may be split.
+// ---- Trim the curves: inside V and at least BoundaryMargin * max(l_c, l_b)
+// from its boundary, l_b the length of the nearest boundary edge (the kept
+// mesh's size there, capped by V's longest edge), as the 3-D cavity does.
+// With the curve finer than V next to the boundary (a second cycle: the
+// first refined the cells at the curve but kept the long wall edges) a gap
+// of BoundaryMargin curve edges against a wall edge five times longer left
+// the refill only fans of needles there (1 degree), since no boundary edge
+// may be split.
+bool Cavity2DRun::TrimCurves()
+{
   const double lvMax = *std::max_element(lv.begin(), lv.end());
   std::vector<char> usable(nCurvePoints, 0);
   std::size_t inside = 0;
@@ -1096,8 +1282,6 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     return false;
   }
   std::vector<std::int64_t> cIndex(nCurvePoints, -1);
-  std::vector<double> cPoints, cSize;
-  std::vector<std::int64_t> cSegs;
   for (std::size_t s = 0; s < nCurveSegments; ++s)
   {
     const std::int64_t* e = curveSegments + 2 * s;
@@ -1123,8 +1307,12 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
             "(every segment has a point within BoundaryMargin edge lengths of it).";
     return false;
   }
-  const std::size_t nCurve = cSize.size();
-  std::vector<std::array<double, 4>> curveList;
+  nCurve = cSize.size();
+  return true;
+}
+
+bool Cavity2DRun::CheckCurvesCross()
+{
   for (std::size_t s = 0; s < cSegs.size(); s += 2)
   {
     const double* a = &cPoints[2 * cSegs[s]];
@@ -1136,9 +1324,13 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     error = "the feature curve intersects itself (or two curves cross).";
     return false;
   }
+  return true;
+}
 
-  // ---- Removal: V_j within RemovalFactor * max(l_ci, l_vj) of a visible C_i
-  // (plus the stack height with layers, as in 3-D).
+// ---- Removal: V_j within RemovalFactor * max(l_ci, l_vj) of a visible C_i
+// (plus the stack height with layers, as in 3-D).
+void Cavity2DRun::MarkRemovedNodes()
+{
   std::vector<IndexedPoint> indexed;
   double lcMax = 0.0;
   for (std::size_t i = 0; i < nCurve; ++i)
@@ -1148,7 +1340,7 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
   }
   KdTree kd(indexed.begin(), indexed.end());
   kd.build();
-  std::vector<char> removed(nV, 0);
+  removed.assign(nV, 0);
   std::vector<IndexedPoint> found;
   const double rf = options.RemovalFactor;
   for (std::size_t j = 0; j < nV; ++j)
@@ -1191,9 +1383,12 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       break;
     }
   }
+}
 
-  // ---- The cavity: cells touching removed nodes; its boundary edges stay.
-  std::vector<char> cavity(nC, 0);
+// ---- The cavity: cells touching removed nodes; its boundary edges stay.
+bool Cavity2DRun::MarkCavity()
+{
+  cavity.assign(nC, 0);
   for (std::size_t c = 0; c < nC; ++c)
   {
     for (std::int64_t k = V.Offsets[c]; k < V.Offsets[c + 1]; ++k)
@@ -1207,9 +1402,12 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     error = "no node of the mesh lies near the feature curve: nothing to remesh.";
     return false;
   }
-  std::vector<std::int64_t> plcIndex(nV, -1); // node -> index among the constrained nodes
-  std::vector<std::int64_t> plcNode;          // and back
-  std::vector<std::pair<std::int64_t, std::int64_t>> shell; // cavity-boundary edges, constrained-node ids
+  return true;
+}
+
+void Cavity2DRun::BuildShell()
+{
+  plcIndex.assign(nV, -1);
   for (std::size_t c = 0; c < nC; ++c)
   {
     if (!cavity[c])
@@ -1222,8 +1420,8 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     {
       const std::int64_t a = v[k], b = v[(k + 1) % n];
       const auto& cells = edges.at({ std::min(a, b), std::max(a, b) });
-      const bool inner = cells.size() == 2 && cavity[cells[0]] && cavity[cells[1]];
-      if (inner)
+      const bool interior = cells.size() == 2 && cavity[cells[0]] && cavity[cells[1]];
+      if (interior)
       {
         continue;
       }
@@ -1238,52 +1436,52 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       shell.emplace_back(plcIndex[a], plcIndex[b]);
     }
   }
-  const auto nShellNodes = static_cast<std::int64_t>(plcNode.size());
+  nShellNodes = static_cast<std::int64_t>(plcNode.size());
+}
 
-  // ---- The curves must stay inside the cavity: none may cross its boundary.
+// ---- The curves must stay inside the cavity: none may cross its boundary.
+bool Cavity2DRun::CheckCurvesInsideCavity()
+{
+  std::vector<std::array<double, 4>> all = curveList;
+  for (const auto& e : shell)
   {
-    std::vector<std::array<double, 4>> all = curveList;
-    for (const auto& e : shell)
-    {
-      const double* a = &X[2 * plcNode[e.first]];
-      const double* b = &X[2 * plcNode[e.second]];
-      all.push_back({ a[0], a[1], b[0], b[1] });
-    }
-    if (SegmentsCross(all))
-    {
-      error = "the feature curve crosses the boundary of the cavity (the kept mesh is too close "
-              "to it); raise RemovalFactor.";
-      return false;
-    }
+    const double* a = &X[2 * plcNode[e.first]];
+    const double* b = &X[2 * plcNode[e.second]];
+    all.push_back({ a[0], a[1], b[0], b[1] });
   }
+  if (SegmentsCross(all))
+  {
+    error = "the feature curve crosses the boundary of the cavity (the kept mesh is too close "
+            "to it); raise RemovalFactor.";
+    return false;
+  }
+  return true;
+}
 
-  // ---- Layers: the band around the curves, built against the cavity's boundary.
-  Band band;
-  if (layers)
+// ---- Layers: the band around the curves, built against the cavity's boundary.
+bool Cavity2DRun::BuildLayers()
+{
+  if (!layers)
   {
-    std::vector<Chain> chains;
-    if (!CurveChains(nCurve, cSegs, chains, error))
-    {
-      return false;
-    }
-    std::vector<std::array<double, 4>> shellSegments;
-    for (const auto& e : shell)
-    {
-      const double* a = &X[2 * plcNode[e.first]];
-      const double* b = &X[2 * plcNode[e.second]];
-      shellSegments.push_back({ a[0], a[1], b[0], b[1] });
-    }
-    if (!BuildBand(cPoints, chains, shellSegments, options.Layers, out.LayerDistances, band, error))
-    {
-      return false;
-    }
+    return true;
   }
-  // The constrained nodes after the cavity's boundary ("extra"), as band
-  // ids (curve nodes 0 .. nCurve-1, then layer points): the curve nodes, or
-  // with layers the outermost polylines' nodes; and the constraints that
-  // bound the refill ("walls": the cavity's boundary, the band's outline).
-  std::vector<std::int64_t> extra;
-  std::vector<std::pair<std::int64_t, std::int64_t>> inner, walls; // band ids
+  std::vector<Chain> chains;
+  if (!CurveChains(nCurve, cSegs, chains, error))
+  {
+    return false;
+  }
+  std::vector<std::array<double, 4>> shellSegments;
+  for (const auto& e : shell)
+  {
+    const double* a = &X[2 * plcNode[e.first]];
+    const double* b = &X[2 * plcNode[e.second]];
+    shellSegments.push_back({ a[0], a[1], b[0], b[1] });
+  }
+  return BuildBand(cPoints, chains, shellSegments, options.Layers, out.LayerDistances, band, error);
+}
+
+void Cavity2DRun::CollectConstraints()
+{
   if (layers)
   {
     std::set<std::int64_t> nodes;
@@ -1306,28 +1504,23 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       inner.emplace_back(cSegs[s], cSegs[s + 1]);
     }
   }
-  const auto nBand = static_cast<std::int64_t>(nCurve + band.PointNode.size());
-  std::vector<std::int64_t> extraOf(nBand, -1); // band id -> CDT id
+  nBand = static_cast<std::int64_t>(nCurve + band.PointNode.size());
+  extraOf.assign(nBand, -1);
   for (std::size_t k = 0; k < extra.size(); ++k)
   {
     extraOf[extra[k]] = nShellNodes + static_cast<std::int64_t>(k);
   }
-  auto bandPoint = [&](std::int64_t b) -> const double* {
-    return b < static_cast<std::int64_t>(nCurve) ? &cPoints[2 * b] : &band.Points[2 * (b - nCurve)];
-  };
-  auto bandNode = [&](std::int64_t b) {
-    return b < static_cast<std::int64_t>(nCurve) ? b : band.PointNode[b - nCurve];
-  };
-  const auto nConstrained = nShellNodes + static_cast<std::int64_t>(extra.size());
+  nConstrained = nShellNodes + static_cast<std::int64_t>(extra.size());
+}
 
-  // ---- The constrained triangulation and the size field's background.
-  CDT cdt;
-  Background background;
-  std::vector<CDT::Vertex_handle> handle(nConstrained);
+// ---- The constrained triangulation and the size field's background.
+bool Cavity2DRun::Triangulate()
+{
+  handle.resize(nConstrained);
   for (std::int64_t k = 0; k < nConstrained; ++k)
   {
     const bool shellNode = k < nShellNodes;
-    const double* x = shellNode ? &X[2 * plcNode[k]] : bandPoint(extra[k - nShellNodes]);
+    const double* x = shellNode ? &X[2 * plcNode[k]] : BandPoint(extra[k - nShellNodes]);
     const Point2 p(x[0], x[1]);
     handle[k] = cdt.insert(p);
     if (handle[k]->info().Id >= 0)
@@ -1338,7 +1531,7 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     }
     handle[k]->info().Id = k;
     const std::int64_t v = shellNode ? plcNode[k] : -1;
-    const double size = shellNode ? sum[v] / std::max(1, count[v]) : cSize[bandNode(extra[k - nShellNodes])];
+    const double size = shellNode ? sum[v] / std::max(1, count[v]) : cSize[BandNode(extra[k - nShellNodes])];
     background.insert(p)->info() = size;
   }
   for (const auto& e : shell)
@@ -1359,8 +1552,13 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
                    : "the feature curve touches the boundary of the cavity; raise RemovalFactor.";
     return false;
   }
-  // Faces inside the cavity: parity of the walls crossed from the infinite
-  // face (a curve edge is crossed freely; the band is outside).
+  return true;
+}
+
+// Faces inside the cavity: parity of the walls crossed from the infinite
+// face (a curve edge is crossed freely; the band is outside).
+void Cavity2DRun::MarkDomain()
+{
   std::set<std::pair<std::int64_t, std::int64_t>> wallKeys;
   for (const auto& e : shell)
   {
@@ -1375,34 +1573,36 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     const std::int64_t a = f->vertex(CDT::cw(i))->info().Id, b = f->vertex(CDT::ccw(i))->info().Id;
     return a >= 0 && b >= 0 && wallKeys.count({ std::min(a, b), std::max(a, b) }) > 0;
   };
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
   {
-    for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
+    f->set_in_domain(false);
+  }
+  std::map<CDT::Face_handle, int> depth;
+  std::queue<CDT::Face_handle> front;
+  depth[cdt.infinite_face()] = 0;
+  front.push(cdt.infinite_face());
+  while (!front.empty())
+  {
+    const CDT::Face_handle f = front.front();
+    front.pop();
+    const int d = depth[f];
+    f->set_in_domain(d % 2 == 1);
+    for (int i = 0; i < 3; ++i)
     {
-      f->set_in_domain(false);
-    }
-    std::map<CDT::Face_handle, int> depth;
-    std::queue<CDT::Face_handle> front;
-    depth[cdt.infinite_face()] = 0;
-    front.push(cdt.infinite_face());
-    while (!front.empty())
-    {
-      const CDT::Face_handle f = front.front();
-      front.pop();
-      const int d = depth[f];
-      f->set_in_domain(d % 2 == 1);
-      for (int i = 0; i < 3; ++i)
+      const CDT::Face_handle g = f->neighbor(i);
+      if (depth.count(g) == 0)
       {
-        const CDT::Face_handle g = f->neighbor(i);
-        if (depth.count(g) == 0)
-        {
-          depth[g] = d + (onWall(f, i) ? 1 : 0);
-          front.push(g);
-        }
+        depth[g] = d + (onWall(f, i) ? 1 : 0);
+        front.push(g);
       }
     }
   }
-  // Every curve segment must lie between two faces of the cavity; with
-  // layers every edge of the band's outline between the band and the cavity.
+}
+
+// Every curve segment must lie between two faces of the cavity; with
+// layers every edge of the band's outline between the band and the cavity.
+bool Cavity2DRun::CheckConstraintsInDomain()
+{
   for (const auto& e : inner)
   {
     CDT::Face_handle f;
@@ -1425,8 +1625,12 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       return false;
     }
   }
+  return true;
+}
 
-  // ---- Refinement: no constrained edge is split.
+// ---- Refinement: no constrained edge is split.
+bool Cavity2DRun::Refine()
+{
   const double sine = std::sin(options.MinAngle * M_PI / 180.0);
   GradedCriteria criteria(sine * sine, &background, options.SizeRatio);
   CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, GradedCriteria> mesher(cdt, criteria);
@@ -1448,10 +1652,14 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       return false;
     }
   }
+  return true;
+}
 
-  // ---- Output: kept points (input order), then the curve's, the layers'
-  // and the refinement's.
-  std::vector<std::int64_t> outIndex(nV, -1);
+// ---- Output: kept points (input order), then the curve's, the layers'
+// and the refinement's.
+void Cavity2DRun::OutputPoints()
+{
+  outIndex.assign(nV, -1);
   for (std::size_t c = 0; c < nC; ++c)
   {
     for (std::int64_t k = V.Offsets[c]; !cavity[c] && k < V.Offsets[c + 1]; ++k)
@@ -1476,11 +1684,11 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
       ++out.RemovedNodes;
     }
   }
-  const auto firstBand = static_cast<std::int64_t>(out.SourcePoint.size()); // band id b is output id firstBand + b
+  firstBand = static_cast<std::int64_t>(out.SourcePoint.size()); // band id b is output id firstBand + b
   for (std::int64_t b = 0; b < nBand; ++b)
   {
     out.SourcePoint.push_back(-1);
-    out.Mesh.Points.insert(out.Mesh.Points.end(), bandPoint(b), bandPoint(b) + 2);
+    out.Mesh.Points.insert(out.Mesh.Points.end(), BandPoint(b), BandPoint(b) + 2);
   }
   // The refinement's points in canonical order (by coordinates).
   std::vector<CDT::Vertex_handle> steiner;
@@ -1494,7 +1702,7 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
   std::sort(steiner.begin(), steiner.end(), [](CDT::Vertex_handle a, CDT::Vertex_handle b) {
     return a->point() < b->point();
   });
-  const std::int64_t firstSteiner = static_cast<std::int64_t>(out.SourcePoint.size());
+  firstSteiner = static_cast<std::int64_t>(out.SourcePoint.size());
   for (std::size_t k = 0; k < steiner.size(); ++k)
   {
     steiner[k]->info().Id = nConstrained + static_cast<std::int64_t>(k); // beyond the constrained nodes
@@ -1502,18 +1710,10 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     out.Mesh.Points.push_back(steiner[k]->point().x());
     out.Mesh.Points.push_back(steiner[k]->point().y());
   }
-  auto outputId = [&](CDT::Vertex_handle v) -> std::int64_t {
-    const std::int64_t id = v->info().Id;
-    if (id < nShellNodes)
-    {
-      return outIndex[plcNode[id]];
-    }
-    if (id < nConstrained)
-    {
-      return firstBand + extra[id - nShellNodes];
-    }
-    return firstSteiner + id - nConstrained;
-  };
+}
+
+void Cavity2DRun::OutputKeptCells()
+{
   out.Mesh.Offsets.assign(1, 0);
   for (std::size_t c = 0; c < nC; ++c)
   {
@@ -1528,31 +1728,36 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     out.Mesh.Offsets.push_back(static_cast<std::int64_t>(out.Mesh.Connectivity.size()));
     out.SourceCell.push_back(static_cast<std::int64_t>(c));
   }
-  if (layers)
+}
+
+void Cavity2DRun::OutputLayerCells()
+{
+  out.CellLayer.assign(out.SourceCell.size(), -1);
+  out.CellSide.assign(out.SourceCell.size(), 0);
+  for (std::size_t c = 0; c < band.Cells.size(); ++c)
   {
-    out.CellLayer.assign(out.SourceCell.size(), -1);
-    out.CellSide.assign(out.SourceCell.size(), 0);
-    for (std::size_t c = 0; c < band.Cells.size(); ++c)
+    for (const std::int64_t b : band.Cells[c])
     {
-      for (const std::int64_t b : band.Cells[c])
-      {
-        out.Mesh.Connectivity.push_back(firstBand + b);
-      }
-      out.Mesh.Offsets.push_back(static_cast<std::int64_t>(out.Mesh.Connectivity.size()));
-      out.SourceCell.push_back(-1);
-      out.CellLayer.push_back(band.CellLayer[c]);
-      out.CellSide.push_back(band.CellSide[c]);
+      out.Mesh.Connectivity.push_back(firstBand + b);
     }
-    out.FirstCurvePoint = static_cast<std::size_t>(firstBand);
-    out.NumberOfCurvePoints = nCurve;
-    out.Normals = band.Normal;
-    out.Heights = band.Height;
-    out.LayerQuads = band.Quads;
-    out.LayerTriangles = band.Triangles;
-    out.LimitedColumns = band.Limited;
-    out.ShrinkRounds = band.Rounds;
+    out.Mesh.Offsets.push_back(static_cast<std::int64_t>(out.Mesh.Connectivity.size()));
+    out.SourceCell.push_back(-1);
+    out.CellLayer.push_back(band.CellLayer[c]);
+    out.CellSide.push_back(band.CellSide[c]);
   }
-  // New triangles in canonical order (by their smallest output id, rotated).
+  out.FirstCurvePoint = static_cast<std::size_t>(firstBand);
+  out.NumberOfCurvePoints = nCurve;
+  out.Normals = band.Normal;
+  out.Heights = band.Height;
+  out.LayerQuads = band.Quads;
+  out.LayerTriangles = band.Triangles;
+  out.LimitedColumns = band.Limited;
+  out.ShrinkRounds = band.Rounds;
+}
+
+// New triangles in canonical order (by their smallest output id, rotated).
+void Cavity2DRun::OutputTriangles()
+{
   std::vector<std::array<std::int64_t, 3>> triangles;
   out.MinAngleNew = 180.0;
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
@@ -1561,8 +1766,8 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
     {
       continue;
     }
-    std::array<std::int64_t, 3> t = { outputId(f->vertex(0)), outputId(f->vertex(1)),
-      outputId(f->vertex(2)) };
+    std::array<std::int64_t, 3> t = { OutputId(f->vertex(0)), OutputId(f->vertex(1)),
+      OutputId(f->vertex(2)) };
     std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
     triangles.push_back(t);
     out.MinAngleNew = std::min(out.MinAngleNew,
@@ -1583,6 +1788,14 @@ bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t
   {
     out.Curve.push_back(firstBand + cSegs[s]);
   }
-  return true;
+}
+}
+
+bool RemeshLocalCavity2D(const Mesh2D& V, const double* curvePoints, std::size_t nCurvePoints,
+  const std::int64_t* curveSegments, std::size_t nCurveSegments, const Cavity2DOptions& options,
+  Cavity2DRemesh& out, std::string& error)
+{
+  Cavity2DRun run(V, curvePoints, nCurvePoints, curveSegments, nCurveSegments, options, out, error);
+  return run.Execute();
 }
 }

@@ -278,87 +278,224 @@ bool vtkARSolverMesh::WriteAtomically(const std::string& path,
 }
 
 // ----------------------------------------------------------------------------
-bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatchName,
-  double tolerance, vtkAlgorithm* progress, std::string& error)
+namespace
 {
-  *this = vtkARSolverMesh();
-  if (!input)
+/// A cell face as its sorted points and 8 * cell + local face; ordered by
+/// (Key, Packed), element by element, so equal faces sort side by side, in
+/// cell order.
+struct CellFace
+{
+  FaceKey Key;
+  vtkIdType Packed;
+  bool operator<(const CellFace& o) const
   {
-    error = "there is no input";
-    return false;
+    for (int i = 0; i < 4; ++i)
+    {
+      if (this->Key[i] != o.Key[i])
+      {
+        return this->Key[i] < o.Key[i];
+      }
+    }
+    return this->Packed < o.Packed;
+  }
+  bool SameFace(const CellFace& o) const
+  {
+    return this->Key[0] == o.Key[0] && this->Key[1] == o.Key[1] && this->Key[2] == o.Key[2] &&
+      this->Key[3] == o.Key[3];
+  }
+};
+
+/**
+ * One vtkARSolverMesh::Build run: the model being built, the state its
+ * stages share, and one path per input form (header, (a) to (c)). Every
+ * path runs the same common stages: the volume cells (Volume), the face
+ * table (FaceTable), then its own patches, then the default patch and the
+ * empty patches (Finish).
+ */
+class SolverMeshBuild
+{
+public:
+  SolverMeshBuild(vtkARSolverMesh& mesh_, const std::string& defaultPatchName_, double tolerance_,
+    vtkAlgorithm* progress_, std::string& error_)
+    : mesh(mesh_)
+    , defaultPatchName(defaultPatchName_)
+    , tolerance(tolerance_)
+    , progress(progress_)
+    , error(error_)
+  {
   }
 
-  // ---- Which form: the volume dataset and where the patches come from.
-  vtkDataSet* volume = nullptr;
-  std::vector<Leaf> patchLeaves;
-  if (vtkDataSet::SafeDownCast(input))
+  /// (a) a multiblock (or partitioned) dataset: a volume leaf, patch leaves.
+  bool FromMultiBlock(vtkDataObject* input);
+  /// (b) a dataset with a cell array PatchId.
+  bool FromPatchIds(vtkDataSet* input);
+  /// (c) a dataset without PatchId: every boundary face in the default patch.
+  bool FromVolumeOnly(vtkDataSet* input);
+
+private:
+  // The common stages.
+  bool Volume(vtkDataSet* volume); ///< the 3-D cells, the points they use
+  void FaceBuckets();              ///< every cell face, bucketed by its smallest point
+  bool MatchFaces();               ///< the face partners, the orientation check
+  bool Finish();                   ///< the default patch; empty patches dropped
+  /// The face table: FaceBuckets, then MatchFaces.
+  bool FaceTable()
   {
-    volume = vtkDataSet::SafeDownCast(input);
+    FaceBuckets();
+    return MatchFaces();
   }
-  else if (vtkMultiBlockDataSet::SafeDownCast(input) || vtkPartitionedDataSet::SafeDownCast(input))
+  // The patches of forms (a) and (b).
+  bool SelectLeaves(vtkDataObject* input);   ///< (a) the volume leaf and the patch leaves
+  bool MatchLeaves();                        ///< (a) the patch leaves' faces, by coordinates
+  vtkDataArray* PatchIdArray();              ///< (b) PatchId, checked (null: refused)
+  bool PatchIdFaces(vtkDataArray* patchIds); ///< (b) the 2-D cells with PatchId >= 0
+  // Patch helpers.
+  int PatchIndex(const std::string& rawName, const std::string& fallback);
+  void AddFace(int patch, vtkIdType c, int f);
+  bool Assign(int patch, const vtkIdType* fids, int n, const std::string& what);
+
+  const vtkIdType* CellOf(vtkIdType c) const
   {
-    this->Form = "multiblock";
-    std::vector<Leaf> leaves;
-    CollectLeaves(input, "", false, leaves);
-    size_t volumeLeaf = leaves.size();
-    for (size_t i = 0; i < leaves.size() && volumeLeaf == leaves.size(); ++i)
-    {
-      if (leaves[i].Name == "internalMesh" && HasCellsOfDimension(leaves[i].Data, 3))
-      {
-        volumeLeaf = i;
-      }
-    }
-    for (size_t i = 0; i < leaves.size() && volumeLeaf == leaves.size(); ++i)
-    {
-      if (HasCellsOfDimension(leaves[i].Data, 3))
-      {
-        volumeLeaf = i;
-      }
-    }
-    if (volumeLeaf == leaves.size())
-    {
-      error = "no block of the multiblock input has 3-D cells (a volume mesh, e.g. the OpenFOAM "
-              "reader's internalMesh, is needed)";
-      return false;
-    }
-    volume = leaves[volumeLeaf].Data;
-    for (size_t i = 0; i < leaves.size(); ++i)
-    {
-      if (i == volumeLeaf)
-      {
-        continue;
-      }
-      if (HasCellsOfDimension(leaves[i].Data, 3))
-      {
-        this->Warnings += "block '" + leaves[i].Name +
-          "' has 3-D cells but is not the volume written (only one volume block is written); "
-          "it is ignored\n";
-      }
-      else if (HasCellsOfDimension(leaves[i].Data, 2))
-      {
-        patchLeaves.push_back(leaves[i]);
-      }
-    }
+    return mesh.CellConnectivity.data() + mesh.CellOffsets[c];
   }
-  else
+  void Progress(double f)
   {
-    error = std::string("the input is a ") + input->GetClassName() +
-      "; a vtkUnstructuredGrid (or any vtkDataSet) or a vtkMultiBlockDataSet is needed";
-    return false;
+    if (progress)
+    {
+      progress->UpdateProgress(f);
+    }
   }
 
-  // ---- Volume cells, compact points.
-  this->Volume = volume;
+  // Inputs.
+  vtkARSolverMesh& mesh;
+  const std::string& defaultPatchName;
+  const double tolerance;
+  vtkAlgorithm* progress;
+  std::string& error;
+
+  vtkNew<vtkIdList> ids;
+  std::vector<Leaf> patchLeaves; ///< form (a)
+  // Volume: input point -> model point (-1: unused); the 2-D cells of the
+  // volume dataset (form (b)).
+  std::vector<vtkIdType> pointMap;
+  std::vector<vtkIdType> surfaceCells;
+  // The face table: every cell face in buckets by its smallest point (shift),
+  // each bucket sorted; the patch of each boundary slot (-1: none yet).
+  int shift = 0;
+  vtkIdType nBuckets = 0;
+  std::vector<vtkIdType> bucketStart;
+  std::vector<CellFace> cellFaces;
+  std::vector<int> slotPatch;
+  std::map<std::string, int> patchByName;
+};
+
+bool SolverMeshBuild::FromMultiBlock(vtkDataObject* input)
+{
+  mesh.Form = "multiblock";
+  if (!SelectLeaves(input) || !Volume(mesh.Volume) || !FaceTable() || !MatchLeaves())
+  {
+    return false;
+  }
+  Progress(0.4);
+  return Finish();
+}
+
+bool SolverMeshBuild::FromPatchIds(vtkDataSet* input)
+{
+  if (!Volume(input) || !FaceTable())
+  {
+    return false;
+  }
+  vtkDataArray* patchIds = PatchIdArray();
+  if (!patchIds)
+  {
+    return false;
+  }
+  mesh.Form = "PatchId";
+  if (!PatchIdFaces(patchIds))
+  {
+    return false;
+  }
+  Progress(0.4);
+  return Finish();
+}
+
+bool SolverMeshBuild::FromVolumeOnly(vtkDataSet* input)
+{
+  if (!Volume(input) || !FaceTable())
+  {
+    return false;
+  }
+  mesh.Form = "volume only";
+  if (!surfaceCells.empty())
+  {
+    mesh.Warnings += std::to_string(surfaceCells.size()) +
+      " 2-D cells are ignored (no PatchId cell array says which patch they belong to)\n";
+  }
+  Progress(0.4);
+  return Finish();
+}
+
+// ---- (a) The volume leaf: "internalMesh", else the first leaf with 3-D
+// cells; the other leaves with 2-D cells are the patches.
+bool SolverMeshBuild::SelectLeaves(vtkDataObject* input)
+{
+  std::vector<Leaf> leaves;
+  CollectLeaves(input, "", false, leaves);
+  size_t volumeLeaf = leaves.size();
+  for (size_t i = 0; i < leaves.size() && volumeLeaf == leaves.size(); ++i)
+  {
+    if (leaves[i].Name == "internalMesh" && HasCellsOfDimension(leaves[i].Data, 3))
+    {
+      volumeLeaf = i;
+    }
+  }
+  for (size_t i = 0; i < leaves.size() && volumeLeaf == leaves.size(); ++i)
+  {
+    if (HasCellsOfDimension(leaves[i].Data, 3))
+    {
+      volumeLeaf = i;
+    }
+  }
+  if (volumeLeaf == leaves.size())
+  {
+    error = "no block of the multiblock input has 3-D cells (a volume mesh, e.g. the OpenFOAM "
+            "reader's internalMesh, is needed)";
+    return false;
+  }
+  mesh.Volume = leaves[volumeLeaf].Data;
+  for (size_t i = 0; i < leaves.size(); ++i)
+  {
+    if (i == volumeLeaf)
+    {
+      continue;
+    }
+    if (HasCellsOfDimension(leaves[i].Data, 3))
+    {
+      mesh.Warnings += "block '" + leaves[i].Name +
+        "' has 3-D cells but is not the volume written (only one volume block is written); "
+        "it is ignored\n";
+    }
+    else if (HasCellsOfDimension(leaves[i].Data, 2))
+    {
+      patchLeaves.push_back(leaves[i]);
+    }
+  }
+  return true;
+}
+
+// ---- Volume cells, compact points.
+bool SolverMeshBuild::Volume(vtkDataSet* volume)
+{
+  mesh.Volume = volume;
   const vtkIdType nInputCells = volume->GetNumberOfCells();
   const vtkIdType nInputPoints = volume->GetNumberOfPoints();
-  std::vector<vtkIdType> pointMap(static_cast<size_t>(nInputPoints), -1);
+  pointMap.assign(static_cast<size_t>(nInputPoints), -1);
   vtkUnsignedCharArray* ghosts = volume->GetCellGhostArray();
-  vtkNew<vtkIdList> ids;
-  std::vector<vtkIdType> surfaceCells; // 2-D cells of the volume dataset (form (b))
-  this->CellConnectivity.reserve(static_cast<size_t>(nInputCells) * 4);
-  this->CellOffsets.reserve(static_cast<size_t>(nInputCells) + 1);
-  this->CellTypes.reserve(static_cast<size_t>(nInputCells));
-  this->InputCellIds.reserve(static_cast<size_t>(nInputCells));
+  mesh.CellConnectivity.reserve(static_cast<size_t>(nInputCells) * 4);
+  mesh.CellOffsets.reserve(static_cast<size_t>(nInputCells) + 1);
+  mesh.CellTypes.reserve(static_cast<size_t>(nInputCells));
+  mesh.InputCellIds.reserve(static_cast<size_t>(nInputCells));
   for (vtkIdType c = 0; c < nInputCells; ++c)
   {
     if (ghosts &&
@@ -396,11 +533,11 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     {
       const vtkIdType p = pts[type == VTK_VOXEL ? voxelToHex[i] : i];
       pointMap[p] = 0; // used; numbered below, in input order
-      this->CellConnectivity.push_back(p);
+      mesh.CellConnectivity.push_back(p);
     }
-    this->CellTypes.push_back(written);
-    this->InputCellIds.push_back(c);
-    this->CellOffsets.push_back(static_cast<vtkIdType>(this->CellConnectivity.size()));
+    mesh.CellTypes.push_back(written);
+    mesh.InputCellIds.push_back(c);
+    mesh.CellOffsets.push_back(static_cast<vtkIdType>(mesh.CellConnectivity.size()));
   }
   for (vtkIdType p = 0; p < nInputPoints; ++p)
   {
@@ -415,78 +552,54 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
       error = "point " + std::to_string(p) + " of the volume has a NaN or Inf coordinate";
       return false;
     }
-    pointMap[p] = this->GetNumberOfPoints();
-    this->Points.insert(this->Points.end(), x, x + 3);
-    this->InputPointIds.push_back(p);
+    pointMap[p] = mesh.GetNumberOfPoints();
+    mesh.Points.insert(mesh.Points.end(), x, x + 3);
+    mesh.InputPointIds.push_back(p);
   }
-  for (vtkIdType& p : this->CellConnectivity)
+  for (vtkIdType& p : mesh.CellConnectivity)
   {
     p = pointMap[p];
   }
-  if (this->CellTypes.empty())
+  if (mesh.CellTypes.empty())
   {
     error = "the input has no 3-D cells (tetrahedra, hexahedra, wedges or pyramids): a volume "
             "mesh is needed";
     return false;
   }
-  if (progress)
-  {
-    progress->UpdateProgress(0.15);
-  }
+  Progress(0.15);
+  return true;
+}
 
-  // ---- Orientation (volume from the outward faces) and the face table:
-  // every cell face bucketed by its smallest point, the faces of a bucket
-  // matched by their sorted points (one search, threaded per bucket; the
-  // buckets also find the patch faces below).
-  const vtkIdType nCells = this->GetNumberOfCells();
-  const vtkIdType nPoints = this->GetNumberOfPoints();
-  this->FaceSlots.resize(static_cast<size_t>(nCells) + 1);
+// ---- The face table: every cell face bucketed by its smallest point, the
+// faces of a bucket matched by their sorted points (one search, threaded per
+// bucket; the buckets also find the patch faces). Every cell face as (its
+// sorted points, 8 * cell + local face), moved into coarse buckets by its
+// smallest point (a radix pass: the faces read in cell order, written to one
+// stream per bucket, which the cache holds; filling a bucket per point
+// directly cost seconds of cache misses at 5e6 cells), each bucket then
+// sorted in parallel (MatchFaces): equal faces side by side, in cell order.
+void SolverMeshBuild::FaceBuckets()
+{
+  const vtkIdType nCells = mesh.GetNumberOfCells();
+  const vtkIdType nPoints = mesh.GetNumberOfPoints();
+  mesh.FaceSlots.resize(static_cast<size_t>(nCells) + 1);
   for (vtkIdType c = 0; c < nCells; ++c)
   {
-    this->FaceSlots[c + 1] = this->FaceSlots[c] + NumberOfFaces(this->CellTypes[c]);
+    mesh.FaceSlots[c + 1] = mesh.FaceSlots[c] + NumberOfFaces(mesh.CellTypes[c]);
   }
-  const vtkIdType nSlots = this->FaceSlots[nCells];
-  auto cellOf = [this](vtkIdType c) { return this->CellConnectivity.data() + this->CellOffsets[c]; };
-  // Every cell face as (its sorted points, 8 * cell + local face), moved
-  // into coarse buckets by its smallest point (a radix pass: the faces read
-  // in cell order, written to one stream per bucket, which the cache holds;
-  // filling a bucket per point directly cost seconds of cache misses at
-  // 5e6 cells), each bucket then sorted in parallel: equal faces side by
-  // side, in cell order.
-  struct CellFace
-  {
-    FaceKey Key;
-    vtkIdType Packed;
-    bool operator<(const CellFace& o) const // (Key, Packed), element by element
-    {
-      for (int i = 0; i < 4; ++i)
-      {
-        if (this->Key[i] != o.Key[i])
-        {
-          return this->Key[i] < o.Key[i];
-        }
-      }
-      return this->Packed < o.Packed;
-    }
-    bool SameFace(const CellFace& o) const
-    {
-      return this->Key[0] == o.Key[0] && this->Key[1] == o.Key[1] && this->Key[2] == o.Key[2] &&
-        this->Key[3] == o.Key[3];
-    }
-  };
-  int shift = 0;
+  const vtkIdType nSlots = mesh.FaceSlots[nCells];
   while ((nPoints >> shift) >= 4096)
   {
     ++shift;
   }
-  const vtkIdType nBuckets = (nPoints >> shift) + 1;
-  std::vector<vtkIdType> bucketStart(static_cast<size_t>(nBuckets) + 1, 0);
+  nBuckets = (nPoints >> shift) + 1;
+  bucketStart.assign(static_cast<size_t>(nBuckets) + 1, 0);
   for (vtkIdType c = 0; c < nCells; ++c)
   {
-    for (int f = 0; f < NumberOfFaces(this->CellTypes[c]); ++f)
+    for (int f = 0; f < NumberOfFaces(mesh.CellTypes[c]); ++f)
     {
-      const int* face = Face(this->CellTypes[c], f);
-      const vtkIdType* cell = cellOf(c);
+      const int* face = Face(mesh.CellTypes[c], f);
+      const vtkIdType* cell = CellOf(c);
       vtkIdType smallest = cell[face[0]];
       for (int i = 1; i < FaceSize(face); ++i)
       {
@@ -499,19 +612,25 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
   {
     bucketStart[b + 1] += bucketStart[b];
   }
-  std::vector<CellFace> cellFaces(static_cast<size_t>(nSlots));
+  cellFaces.resize(static_cast<size_t>(nSlots));
+  std::vector<vtkIdType> next(bucketStart.begin(), bucketStart.end() - 1);
+  for (vtkIdType c = 0; c < nCells; ++c)
   {
-    std::vector<vtkIdType> next(bucketStart.begin(), bucketStart.end() - 1);
-    for (vtkIdType c = 0; c < nCells; ++c)
+    for (int f = 0; f < NumberOfFaces(mesh.CellTypes[c]); ++f)
     {
-      for (int f = 0; f < NumberOfFaces(this->CellTypes[c]); ++f)
-      {
-        const FaceKey key = CellFaceKey(this->CellTypes[c], cellOf(c), f);
-        cellFaces[next[key[0] >> shift]++] = { key, 8 * c + f };
-      }
+      const FaceKey key = CellFaceKey(mesh.CellTypes[c], CellOf(c), f);
+      cellFaces[next[key[0] >> shift]++] = { key, 8 * c + f };
     }
   }
-  this->FacePartner.assign(static_cast<size_t>(nSlots), -1);
+}
+
+// ---- Each bucket sorted, its equal faces paired; the orientation (volume
+// from the outward faces) of every cell.
+bool SolverMeshBuild::MatchFaces()
+{
+  const vtkIdType nCells = mesh.GetNumberOfCells();
+  const vtkIdType nSlots = mesh.FaceSlots[nCells];
+  mesh.FacePartner.assign(static_cast<size_t>(nSlots), -1);
   std::atomic<vtkIdType> overShared(nCells); // the first cell making a face's third use
   std::atomic<vtkIdType> inverted(nCells);   // the first inverted or degenerate cell
   vtkARMeshKernels::Threaded([&]() {
@@ -529,8 +648,8 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
           if (j - i == 2)
           {
             const vtkIdType x = i[0].Packed, y = i[1].Packed;
-            this->FacePartner[this->FaceSlots[x >> 3] + (x & 7)] = y;
-            this->FacePartner[this->FaceSlots[y >> 3] + (y & 7)] = x;
+            mesh.FacePartner[mesh.FaceSlots[x >> 3] + (x & 7)] = y;
+            mesh.FacePartner[mesh.FaceSlots[y >> 3] + (y & 7)] = x;
           }
           else if (j - i > 2)
           {
@@ -542,12 +661,12 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     vtkSMPTools::For(0, nCells, [&](vtkIdType first, vtkIdType last) {
       for (vtkIdType c = first; c < last; ++c)
       {
-        const ar::CellShape shape = ShapeOf(this->CellTypes[c]);
-        const vtkIdType* cell = cellOf(c);
+        const ar::CellShape shape = ShapeOf(mesh.CellTypes[c]);
+        const vtkIdType* cell = CellOf(c);
         double x[8 * 3];
         for (int i = 0; i < ar::NumberOfNodes(shape); ++i)
         {
-          std::copy(&this->Points[3 * cell[i]], &this->Points[3 * cell[i]] + 3, x + 3 * i);
+          std::copy(&mesh.Points[3 * cell[i]], &mesh.Points[3 * cell[i]] + 3, x + 3 * i);
         }
         if (!(ar::CellVolume(shape, x) > 0.0))
         {
@@ -566,292 +685,288 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
   if (inverted.load() < nCells)
   {
     const vtkIdType c = inverted.load();
-    const ar::CellShape shape = ShapeOf(this->CellTypes[c]);
+    const ar::CellShape shape = ShapeOf(mesh.CellTypes[c]);
     double x[8 * 3];
     for (int i = 0; i < ar::NumberOfNodes(shape); ++i)
     {
-      std::copy(&this->Points[3 * cellOf(c)[i]], &this->Points[3 * cellOf(c)[i]] + 3, x + 3 * i);
+      std::copy(&mesh.Points[3 * CellOf(c)[i]], &mesh.Points[3 * CellOf(c)[i]] + 3, x + 3 * i);
     }
-    error = "3-D cell number " + std::to_string(c) + " (a " + TypeName(this->CellTypes[c]) +
+    error = "3-D cell number " + std::to_string(c) + " (a " + TypeName(mesh.CellTypes[c]) +
       ") is inverted or degenerate: its volume from its faces in VTK's node order is " +
       std::to_string(ar::CellVolume(shape, x));
     return false;
   }
-  // The patch of each boundary slot (-1: none yet).
-  std::vector<int> slotPatch(static_cast<size_t>(nSlots), -1);
-  if (progress)
-  {
-    progress->UpdateProgress(0.3);
-  }
+  slotPatch.assign(static_cast<size_t>(nSlots), -1);
+  Progress(0.3);
+  return true;
+}
 
-  // ---- Patches.
-  std::map<std::string, int> patchByName;
-  auto patchIndex = [&](const std::string& rawName, const std::string& fallback) {
-    const std::string name = CleanName(rawName, fallback);
-    if (name != rawName && !rawName.empty())
+// ---- Patches.
+int SolverMeshBuild::PatchIndex(const std::string& rawName, const std::string& fallback)
+{
+  const std::string name = vtkARSolverMesh::CleanName(rawName, fallback);
+  if (name != rawName && !rawName.empty())
+  {
+    mesh.Warnings += "patch name '" + rawName + "' is written as '" + name + "'\n";
+  }
+  auto it = patchByName.find(name);
+  if (it != patchByName.end())
+  {
+    return it->second;
+  }
+  const int index = static_cast<int>(mesh.Patches.size());
+  mesh.Patches.emplace_back();
+  mesh.Patches.back().Name = name;
+  patchByName[name] = index;
+  return index;
+}
+
+void SolverMeshBuild::AddFace(int patch, vtkIdType c, int f)
+{
+  const vtkIdType* cell = CellOf(c);
+  const int* face = Face(mesh.CellTypes[c], f);
+  vtkARSolverMesh::Patch& p = mesh.Patches[patch];
+  for (int i = 0; i < FaceSize(face); ++i)
+  {
+    p.Connectivity.push_back(cell[face[i]]);
+  }
+  p.Offsets.push_back(static_cast<vtkIdType>(p.Connectivity.size()));
+  p.Cells.push_back(c);
+}
+
+// Assigns one input face (model point ids) to a patch.
+bool SolverMeshBuild::Assign(int patch, const vtkIdType* fids, int n, const std::string& what)
+{
+  // the face's bucket: its smallest point's
+  const FaceKey key = MakeKey(fids, n);
+  const vtkIdType bucket = key[0] >> shift;
+  const CellFace* b = cellFaces.data() + bucketStart[bucket];
+  const CellFace* e = cellFaces.data() + bucketStart[bucket + 1];
+  const CellFace* first =
+    std::lower_bound(b, e, CellFace{ key, std::numeric_limits<vtkIdType>::min() });
+  const vtkIdType found = first < e && first->Key == key ? first->Packed : -1; // the first cell's
+  if (found < 0)
+  {
+    error = what + " of patch '" + mesh.Patches[patch].Name +
+      "' is not a face of any 3-D cell (its points are volume points, but no cell face has "
+      "exactly them)";
+    return false;
+  }
+  const vtkIdType slot = mesh.FaceSlots[found >> 3] + (found & 7);
+  if (mesh.FacePartner[slot] >= 0)
+  {
+    error = what + " of patch '" + mesh.Patches[patch].Name +
+      "' is an interior face (shared by two cells), not a boundary face of the volume";
+    return false;
+  }
+  if (slotPatch[slot] >= 0)
+  {
+    if (slotPatch[slot] != patch)
     {
-      this->Warnings += "patch name '" + rawName + "' is written as '" + name + "'\n";
-    }
-    auto it = patchByName.find(name);
-    if (it != patchByName.end())
-    {
-      return it->second;
-    }
-    const int index = static_cast<int>(this->Patches.size());
-    this->Patches.emplace_back();
-    this->Patches.back().Name = name;
-    patchByName[name] = index;
-    return index;
-  };
-  auto addFace = [&](int patch, vtkIdType c, int f) {
-    const vtkIdType* cell = cellOf(c);
-    const int* face = Face(this->CellTypes[c], f);
-    Patch& p = this->Patches[patch];
-    for (int i = 0; i < FaceSize(face); ++i)
-    {
-      p.Connectivity.push_back(cell[face[i]]);
-    }
-    p.Offsets.push_back(static_cast<vtkIdType>(p.Connectivity.size()));
-    p.Cells.push_back(c);
-  };
-  // Assigns one input face (model point ids) to a patch.
-  auto assign = [&](int patch, const vtkIdType* fids, int n, const std::string& what) {
-    // the face's bucket: its smallest point's
-    const FaceKey key = MakeKey(fids, n);
-    const vtkIdType bucket = key[0] >> shift;
-    const CellFace* b = cellFaces.data() + bucketStart[bucket];
-    const CellFace* e = cellFaces.data() + bucketStart[bucket + 1];
-    const CellFace* first = std::lower_bound(b, e,
-      CellFace{ key, std::numeric_limits<vtkIdType>::min() });
-    const vtkIdType found = first < e && first->Key == key ? first->Packed : -1; // the first cell's
-    if (found < 0)
-    {
-      error = what + " of patch '" + this->Patches[patch].Name +
-        "' is not a face of any 3-D cell (its points are volume points, but no cell face has "
-        "exactly them)";
+      error = what + " of patch '" + mesh.Patches[patch].Name + "' is also in patch '" +
+        mesh.Patches[slotPatch[slot]].Name + "' (a boundary face belongs to one patch)";
       return false;
     }
-    const vtkIdType slot = this->FaceSlots[found >> 3] + (found & 7);
-    if (this->FacePartner[slot] >= 0)
+    return true; // the same face twice in one patch: written once
+  }
+  slotPatch[slot] = patch;
+  AddFace(patch, found >> 3, static_cast<int>(found & 7));
+  return true;
+}
+
+// ---- (a) Patch leaves matched by coordinates.
+bool SolverMeshBuild::MatchLeaves()
+{
+  vtkNew<vtkPoints> modelPoints;
+  modelPoints->SetDataTypeToDouble();
+  modelPoints->SetNumberOfPoints(mesh.GetNumberOfPoints());
+  for (vtkIdType p = 0; p < mesh.GetNumberOfPoints(); ++p)
+  {
+    modelPoints->SetPoint(p, &mesh.Points[3 * p]);
+  }
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(modelPoints);
+  vtkNew<vtkStaticPointLocator> locator;
+  locator->SetDataSet(cloud);
+  locator->BuildLocator();
+  double bounds[6];
+  modelPoints->GetBounds(bounds);
+  const double diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  const double radius = std::max(tolerance, 0.0) * diagonal;
+  for (size_t l = 0; l < patchLeaves.size(); ++l)
+  {
+    vtkDataSet* leaf = patchLeaves[l].Data;
+    const int patch = PatchIndex(patchLeaves[l].Name, "patch" + std::to_string(l));
+    std::vector<vtkIdType> leafMap(static_cast<size_t>(leaf->GetNumberOfPoints()), -2);
+    for (vtkIdType c = 0; c < leaf->GetNumberOfCells(); ++c)
     {
-      error = what + " of patch '" + this->Patches[patch].Name +
-        "' is an interior face (shared by two cells), not a boundary face of the volume";
-      return false;
-    }
-    if (slotPatch[slot] >= 0)
-    {
-      if (slotPatch[slot] != patch)
+      const int type = leaf->GetCellType(c);
+      if (vtkCellTypes::GetDimension(static_cast<unsigned char>(type)) != 2)
       {
-        error = what + " of patch '" + this->Patches[patch].Name + "' is also in patch '" +
-          this->Patches[slotPatch[slot]].Name + "' (a boundary face belongs to one patch)";
+        continue;
+      }
+      leaf->GetCellPoints(c, ids);
+      vtkIdType local[4];
+      int n = 0;
+      if (!PolygonIds(type, ids, local, n))
+      {
+        error = "face " + std::to_string(c) + " of patch '" + mesh.Patches[patch].Name +
+          "' is a " + TypeName(type) + " with " + std::to_string(ids->GetNumberOfIds()) +
+          " points; only triangles and quadrilaterals can be written";
         return false;
       }
-      return true; // the same face twice in one patch: written once
-    }
-    slotPatch[slot] = patch;
-    addFace(patch, found >> 3, static_cast<int>(found & 7));
-    return true;
-  };
-
-  vtkDataArray* patchIds =
-    this->Form.empty() ? volume->GetCellData()->GetArray("PatchId") : nullptr;
-  if (this->Form.empty() && volume->GetCellData()->GetAbstractArray("PatchId") && !patchIds)
-  {
-    error = "the cell array PatchId is not numeric (an integer array is needed)";
-    return false;
-  }
-  if (patchIds && (patchIds->GetDataType() == VTK_FLOAT || patchIds->GetDataType() == VTK_DOUBLE))
-  {
-    error = std::string("the cell array PatchId is a ") + patchIds->GetClassName() +
-      "; an integer array is needed";
-    return false;
-  }
-  if (patchIds && patchIds->GetNumberOfComponents() != 1)
-  {
-    error = "the cell array PatchId has " + std::to_string(patchIds->GetNumberOfComponents()) +
-      " components; one is needed";
-    return false;
-  }
-
-  if (this->Form == "multiblock")
-  {
-    // (a) Patch leaves matched by coordinates.
-    vtkNew<vtkPoints> modelPoints;
-    modelPoints->SetDataTypeToDouble();
-    modelPoints->SetNumberOfPoints(this->GetNumberOfPoints());
-    for (vtkIdType p = 0; p < this->GetNumberOfPoints(); ++p)
-    {
-      modelPoints->SetPoint(p, &this->Points[3 * p]);
-    }
-    vtkNew<vtkPolyData> cloud;
-    cloud->SetPoints(modelPoints);
-    vtkNew<vtkStaticPointLocator> locator;
-    locator->SetDataSet(cloud);
-    locator->BuildLocator();
-    double bounds[6];
-    modelPoints->GetBounds(bounds);
-    const double diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
-      (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
-      (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
-    const double radius = std::max(tolerance, 0.0) * diagonal;
-    for (size_t l = 0; l < patchLeaves.size(); ++l)
-    {
-      vtkDataSet* leaf = patchLeaves[l].Data;
-      const int patch = patchIndex(patchLeaves[l].Name, "patch" + std::to_string(l));
-      std::vector<vtkIdType> leafMap(static_cast<size_t>(leaf->GetNumberOfPoints()), -2);
-      for (vtkIdType c = 0; c < leaf->GetNumberOfCells(); ++c)
+      vtkIdType fids[4];
+      for (int i = 0; i < n; ++i)
       {
-        const int type = leaf->GetCellType(c);
-        if (vtkCellTypes::GetDimension(static_cast<unsigned char>(type)) != 2)
+        vtkIdType& p = leafMap[local[i]];
+        if (p == -2)
         {
-          continue;
-        }
-        leaf->GetCellPoints(c, ids);
-        vtkIdType local[4];
-        int n = 0;
-        if (!PolygonIds(type, ids, local, n))
-        {
-          error = "face " + std::to_string(c) + " of patch '" + this->Patches[patch].Name +
-            "' is a " + TypeName(type) + " with " + std::to_string(ids->GetNumberOfIds()) +
-            " points; only triangles and quadrilaterals can be written";
-          return false;
-        }
-        vtkIdType fids[4];
-        for (int i = 0; i < n; ++i)
-        {
-          vtkIdType& m = leafMap[local[i]];
-          if (m == -2)
+          double x[3];
+          leaf->GetPoint(local[i], x);
+          double dist2 = 0.0;
+          p = (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))
+            ? locator->FindClosestPointWithinRadius(radius, x, dist2)
+            : -1;
+          if (p < 0)
           {
-            double x[3];
-            leaf->GetPoint(local[i], x);
-            double dist2 = 0.0;
-            m = (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))
-              ? locator->FindClosestPointWithinRadius(radius, x, dist2)
-              : -1;
-            if (m < 0)
-            {
-              std::ostringstream s;
-              s << "point " << local[i] << " (" << x[0] << ", " << x[1] << ", " << x[2]
-                << ") of patch '" << this->Patches[patch].Name
-                << "' has no point of the volume within " << radius
-                << " (tolerance relative to the bounding-box diagonal: " << tolerance
-                << "): the patch is not on the volume's boundary";
-              error = s.str();
-              return false;
-            }
-          }
-          fids[i] = m;
-        }
-        if (!assign(patch, fids, n, "face " + std::to_string(c)))
-        {
-          return false;
-        }
-      }
-    }
-  }
-  else if (patchIds)
-  {
-    // (b) 2-D cells with PatchId >= 0, named by PatchNames.
-    this->Form = "PatchId";
-    vtkStringArray* names =
-      vtkStringArray::SafeDownCast(volume->GetFieldData()->GetAbstractArray("PatchNames"));
-    std::map<long long, std::vector<vtkIdType>> byId;
-    for (vtkIdType c : surfaceCells)
-    {
-      const long long id = static_cast<long long>(patchIds->GetComponent(c, 0));
-      if (id >= 0)
-      {
-        byId[id].push_back(c);
-      }
-    }
-    for (const auto& entry : byId)
-    {
-      std::string rawName;
-      if (names && entry.first < names->GetNumberOfValues())
-      {
-        rawName = names->GetValue(entry.first);
-      }
-      else if (names)
-      {
-        this->Warnings += "PatchNames has no entry " + std::to_string(entry.first) +
-          "; the patch is named patch" + std::to_string(entry.first) + "\n";
-      }
-      const int patch = patchIndex(rawName, "patch" + std::to_string(entry.first));
-      for (vtkIdType c : entry.second)
-      {
-        const int type = volume->GetCellType(c);
-        volume->GetCellPoints(c, ids);
-        vtkIdType local[4];
-        int n = 0;
-        if (!PolygonIds(type, ids, local, n))
-        {
-          error = "boundary cell " + std::to_string(c) + " of patch '" +
-            this->Patches[patch].Name + "' is a " + TypeName(type) + " with " +
-            std::to_string(ids->GetNumberOfIds()) +
-            " points; only triangles and quadrilaterals can be written";
-          return false;
-        }
-        vtkIdType fids[4];
-        for (int i = 0; i < n; ++i)
-        {
-          fids[i] = pointMap[local[i]];
-          if (fids[i] < 0)
-          {
-            error = "boundary cell " + std::to_string(c) + " of patch '" +
-              this->Patches[patch].Name + "' uses point " + std::to_string(local[i]) +
-              ", which no 3-D cell uses: the face is not on the volume's boundary";
+            std::ostringstream s;
+            s << "point " << local[i] << " (" << x[0] << ", " << x[1] << ", " << x[2]
+              << ") of patch '" << mesh.Patches[patch].Name
+              << "' has no point of the volume within " << radius
+              << " (tolerance relative to the bounding-box diagonal: " << tolerance
+              << "): the patch is not on the volume's boundary";
+            error = s.str();
             return false;
           }
         }
-        if (!assign(patch, fids, n, "boundary cell " + std::to_string(c)))
-        {
-          return false;
-        }
+        fids[i] = p;
+      }
+      if (!Assign(patch, fids, n, "face " + std::to_string(c)))
+      {
+        return false;
       }
     }
   }
-  else
+  return true;
+}
+
+// ---- (b) The PatchId array: numeric, integer, one component.
+vtkDataArray* SolverMeshBuild::PatchIdArray()
+{
+  vtkDataArray* patchIds = mesh.Volume->GetCellData()->GetArray("PatchId");
+  if (!patchIds)
   {
-    this->Form = "volume only";
-    if (!surfaceCells.empty())
+    error = "the cell array PatchId is not numeric (an integer array is needed)";
+    return nullptr;
+  }
+  if (patchIds->GetDataType() == VTK_FLOAT || patchIds->GetDataType() == VTK_DOUBLE)
+  {
+    error = std::string("the cell array PatchId is a ") + patchIds->GetClassName() +
+      "; an integer array is needed";
+    return nullptr;
+  }
+  if (patchIds->GetNumberOfComponents() != 1)
+  {
+    error = "the cell array PatchId has " + std::to_string(patchIds->GetNumberOfComponents()) +
+      " components; one is needed";
+    return nullptr;
+  }
+  return patchIds;
+}
+
+// ---- (b) 2-D cells with PatchId >= 0, named by PatchNames.
+bool SolverMeshBuild::PatchIdFaces(vtkDataArray* patchIds)
+{
+  vtkStringArray* names =
+    vtkStringArray::SafeDownCast(mesh.Volume->GetFieldData()->GetAbstractArray("PatchNames"));
+  std::map<long long, std::vector<vtkIdType>> byId;
+  for (vtkIdType c : surfaceCells)
+  {
+    const long long id = static_cast<long long>(patchIds->GetComponent(c, 0));
+    if (id >= 0)
     {
-      this->Warnings += std::to_string(surfaceCells.size()) +
-        " 2-D cells are ignored (no PatchId cell array says which patch they belong to)\n";
+      byId[id].push_back(c);
     }
   }
-  if (progress)
+  for (const auto& entry : byId)
   {
-    progress->UpdateProgress(0.4);
+    std::string rawName;
+    if (names && entry.first < names->GetNumberOfValues())
+    {
+      rawName = names->GetValue(entry.first);
+    }
+    else if (names)
+    {
+      mesh.Warnings += "PatchNames has no entry " + std::to_string(entry.first) +
+        "; the patch is named patch" + std::to_string(entry.first) + "\n";
+    }
+    const int patch = PatchIndex(rawName, "patch" + std::to_string(entry.first));
+    for (vtkIdType c : entry.second)
+    {
+      const int type = mesh.Volume->GetCellType(c);
+      mesh.Volume->GetCellPoints(c, ids);
+      vtkIdType local[4];
+      int n = 0;
+      if (!PolygonIds(type, ids, local, n))
+      {
+        error = "boundary cell " + std::to_string(c) + " of patch '" + mesh.Patches[patch].Name +
+          "' is a " + TypeName(type) + " with " + std::to_string(ids->GetNumberOfIds()) +
+          " points; only triangles and quadrilaterals can be written";
+        return false;
+      }
+      vtkIdType fids[4];
+      for (int i = 0; i < n; ++i)
+      {
+        fids[i] = pointMap[local[i]];
+        if (fids[i] < 0)
+        {
+          error = "boundary cell " + std::to_string(c) + " of patch '" +
+            mesh.Patches[patch].Name + "' uses point " + std::to_string(local[i]) +
+            ", which no 3-D cell uses: the face is not on the volume's boundary";
+          return false;
+        }
+      }
+      if (!Assign(patch, fids, n, "boundary cell " + std::to_string(c)))
+      {
+        return false;
+      }
+    }
   }
+  return true;
+}
 
-  // ---- Boundary faces no patch covers: the default patch, in cell order.
+// ---- Boundary faces no patch covers: the default patch, in cell order.
+bool SolverMeshBuild::Finish()
+{
   vtkIdType unassigned = 0;
   int defaultPatch = -1;
-  for (vtkIdType c = 0; c < nCells; ++c)
+  for (vtkIdType c = 0; c < mesh.GetNumberOfCells(); ++c)
   {
-    for (vtkIdType slot = this->FaceSlots[c]; slot < this->FaceSlots[c + 1]; ++slot)
+    for (vtkIdType slot = mesh.FaceSlots[c]; slot < mesh.FaceSlots[c + 1]; ++slot)
     {
-      if (this->FacePartner[slot] < 0 && slotPatch[slot] < 0)
+      if (mesh.FacePartner[slot] < 0 && slotPatch[slot] < 0)
       {
         if (defaultPatch < 0)
         {
-          defaultPatch = patchIndex(defaultPatchName, "boundary");
+          defaultPatch = PatchIndex(defaultPatchName, "boundary");
         }
         slotPatch[slot] = defaultPatch;
-        addFace(defaultPatch, c, static_cast<int>(slot - this->FaceSlots[c]));
+        AddFace(defaultPatch, c, static_cast<int>(slot - mesh.FaceSlots[c]));
         ++unassigned;
       }
     }
   }
-  if (unassigned > 0 && this->Form != "volume only")
+  if (unassigned > 0 && mesh.Form != "volume only")
   {
-    this->Warnings += std::to_string(unassigned) +
+    mesh.Warnings += std::to_string(unassigned) +
       " boundary faces of the volume are in no patch; they are written to patch '" +
-      this->Patches[defaultPatch].Name + "'\n";
+      mesh.Patches[defaultPatch].Name + "'\n";
   }
   // Empty patches cannot be expressed (Gmsh physical groups, SU2 markers need elements).
-  std::vector<Patch> kept;
-  for (auto& p : this->Patches)
+  std::vector<vtkARSolverMesh::Patch> kept;
+  for (auto& p : mesh.Patches)
   {
     if (p.GetNumberOfFaces() > 0)
     {
@@ -859,15 +974,40 @@ bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatc
     }
     else
     {
-      this->Warnings += "patch '" + p.Name + "' has no faces and is not written\n";
+      mesh.Warnings += "patch '" + p.Name + "' has no faces and is not written\n";
     }
   }
-  this->Patches = std::move(kept);
-  if (progress)
-  {
-    progress->UpdateProgress(0.5);
-  }
+  mesh.Patches = std::move(kept);
+  Progress(0.5);
   return true;
+}
+}
+
+// ----------------------------------------------------------------------------
+bool vtkARSolverMesh::Build(vtkDataObject* input, const std::string& defaultPatchName,
+  double tolerance, vtkAlgorithm* progress, std::string& error)
+{
+  *this = vtkARSolverMesh();
+  if (!input)
+  {
+    error = "there is no input";
+    return false;
+  }
+  SolverMeshBuild run(*this, defaultPatchName, tolerance, progress, error);
+  if (auto* dataSet = vtkDataSet::SafeDownCast(input))
+  {
+    // (b) needs the array PatchId (PatchIdArray refuses one that is not an
+    // integer array); without it, (c).
+    return dataSet->GetCellData()->GetAbstractArray("PatchId") ? run.FromPatchIds(dataSet)
+                                                               : run.FromVolumeOnly(dataSet);
+  }
+  if (vtkMultiBlockDataSet::SafeDownCast(input) || vtkPartitionedDataSet::SafeDownCast(input))
+  {
+    return run.FromMultiBlock(input);
+  }
+  error = std::string("the input is a ") + input->GetClassName() +
+    "; a vtkUnstructuredGrid (or any vtkDataSet) or a vtkMultiBlockDataSet is needed";
+  return false;
 }
 
 //------------------------------------------------------------------------------

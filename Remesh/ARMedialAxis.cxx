@@ -223,17 +223,149 @@ private:
   Mesh Surface;
   std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh, Kernel>> Inside;
 };
-}
 
-bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double* normals,
-  const std::int64_t* triangles, std::size_t nTriangles, const MedialAxisOptions& options,
-  const ClosedSurface* domain, MedialSheet& out, std::string& error,
-  const ProgressCallback& progress)
+/**
+ * One ComputeMedialSheet run: the inputs, the state its stages share, and the
+ * stages in the order they run (Execute), each a step of the header's
+ * algorithm; as CavityRun (ARCavity.cxx) keeps its passes over one state.
+ */
+class MedialRun
+{
+public:
+  MedialRun(const double* points_, std::size_t nPoints_, const double* normals_,
+    const std::int64_t* triangles_, std::size_t nTriangles_, const MedialAxisOptions& options_,
+    const ClosedSurface* domain_, MedialSheet& out_, std::string& error_,
+    const ProgressCallback& progress_)
+    : points(points_)
+    , nPoints(nPoints_)
+    , normals(normals_)
+    , triangles(triangles_)
+    , nTriangles(nTriangles_)
+    , options(options_)
+    , domain(domain_)
+    , out(out_)
+    , error(error_)
+    , progress(progress_)
+  {
+  }
+
+  bool Execute();
+
+private:
+  bool Validate();                ///< sizes, options, finite input, triangle indices
+  void ComputeEdgeLengths();      ///< each point's longest surface edge
+  bool BuildDomain();             ///< the point-in-domain test, if a domain is given
+  bool BuildMirrorPlanes();       ///< the symmetry planes, oriented to the surface's side
+  void BuildMirrorCopies();       ///< the products of their reflections
+  void AddMirrorImages();         ///< the surface and its mirror images: all*
+  bool Triangulate();             ///< the Delaunay tetrahedra of all the points
+  void ComputeVoronoiVertices();  ///< circumcentres, radii and the interior test
+  void MergeCoincidentVertices(); ///< cospherical points' circumcentres as one
+  bool CollectFacets();           ///< Voronoi facets with an interior ring
+  void JoinSheets();              ///< facets joined along Voronoi edges
+  void TriangulateFacets();       ///< fans, and each facet's area
+  void SelectSheets();            ///< sheet areas, the kept sheets' ids
+  void Output();                  ///< compact points, triangles, sheet ids
+
+  /// Folds a point into the original side of every symmetry plane.
+  void Fold(double* x) const;
+  /// Reports `f` to the progress callback; true (with the error set) to abort.
+  bool Aborted(double f)
+  {
+    if (this->progress && this->progress(f))
+    {
+      this->error = "aborted.";
+      return true;
+    }
+    return false;
+  }
+
+  // Inputs.
+  const double* points;
+  const std::size_t nPoints;
+  const double* normals;
+  const std::int64_t* triangles;
+  const std::size_t nTriangles;
+  const MedialAxisOptions& options;
+  const ClosedSurface* domain;
+  MedialSheet& out;
+  std::string& error;
+  const ProgressCallback& progress;
+
+  // The surface: each point's longest edge, the domain test.
+  std::vector<double> edgeLength;
+  std::unique_ptr<DomainTest> inDomain;
+  // Symmetry planes and the copies of the surface.
+  double samePoint = 0.0;
+  std::vector<MirrorPlane> planes;
+  std::vector<Affine> copies;
+  std::vector<double> allPoints, allNormals, allEdgeLength;
+  std::size_t nAll = 0;
+  // The Delaunay tetrahedra (cells' info: their index in `cells`, -1 if
+  // infinite), their Voronoi vertices and which are interior.
+  Delaunay dt;
+  std::vector<Delaunay::Cell_handle> cells;
+  std::size_t nCells = 0;
+  std::vector<double> centre, radius;
+  std::vector<char> keep;
+  UnionFind same{ 0 };
+  // The Voronoi facets: polygons of (merged) cell ids; the facet of each cell
+  // and local edge.
+  std::vector<std::int64_t> facetOffsets{ 0 };
+  std::vector<std::int64_t> facetCells;
+  std::vector<std::int32_t> facetOf;
+  std::size_t nFacets = 0;
+  // Sheets, the facets' fan triangles (cell ids) and the kept sheets.
+  UnionFind sheets{ 0 };
+  std::vector<std::int64_t> tris;
+  std::vector<std::int64_t> triFacet;
+  std::vector<double> facetArea;
+  std::vector<std::int64_t> sheetOfRoot;
+  std::vector<int> newSheetId;
+};
+
+/// The local edges of a tetrahedron, numbered 0..5.
+const int EdgeIndex[4][4] = { { -1, 0, 1, 2 }, { 0, -1, 3, 4 }, { 1, 3, -1, 5 }, { 2, 4, 5, -1 } };
+
+bool MedialRun::Execute()
 {
   out = MedialSheet();
-  auto aborted = [&](double f) { return progress && progress(f); };
+  if (!Validate())
+  {
+    return false;
+  }
+  ComputeEdgeLengths();
+  if (!BuildDomain() || !BuildMirrorPlanes())
+  {
+    return false;
+  }
+  BuildMirrorCopies();
+  AddMirrorImages();
+  if (!Triangulate() || Aborted(0.4))
+  {
+    return false;
+  }
+  ComputeVoronoiVertices();
+  if (Aborted(0.6))
+  {
+    return false;
+  }
+  MergeCoincidentVertices();
+  if (!CollectFacets())
+  {
+    return false;
+  }
+  JoinSheets();
+  TriangulateFacets();
+  SelectSheets();
+  Output();
+  progress && progress(1.0);
+  return true;
+}
 
-  // ---- Validation.
+// ---- Validation.
+bool MedialRun::Validate()
+{
   if (nPoints < 4)
   {
     error = "the surface has " + std::to_string(nPoints) +
@@ -283,9 +415,13 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       return false;
     }
   }
+  return true;
+}
 
-  // ---- Local surface edge length: each point's longest surface edge.
-  std::vector<double> edgeLength(nPoints, 0.0);
+// ---- Local surface edge length: each point's longest surface edge.
+void MedialRun::ComputeEdgeLengths()
+{
+  edgeLength.assign(nPoints, 0.0);
   for (std::size_t t = 0; t < nTriangles; ++t)
   {
     const std::int64_t* tri = triangles + 3 * t;
@@ -297,8 +433,10 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       edgeLength[b] = std::max(edgeLength[b], l);
     }
   }
+}
 
-  std::unique_ptr<DomainTest> inDomain;
+bool MedialRun::BuildDomain()
+{
   if (domain)
   {
     inDomain = std::make_unique<DomainTest>();
@@ -307,8 +445,12 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       return false;
     }
   }
+  return true;
+}
 
-  // ---- Symmetry planes: the surface and its mirror images.
+// ---- Symmetry planes: the surface and its mirror images.
+bool MedialRun::BuildMirrorPlanes()
+{
   double lo[3] = { points[0], points[1], points[2] }, hi[3] = { lo[0], lo[1], lo[2] };
   for (std::size_t i = 0; i < nPoints; ++i)
   {
@@ -319,8 +461,7 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     }
   }
   const double diagonal = Distance(lo, hi);
-  const double samePoint = 1e-9 * diagonal;
-  std::vector<MirrorPlane> planes;
+  samePoint = 1e-9 * diagonal;
   for (std::size_t k = 0; k + 5 < options.SymmetryPlanes.size(); k += 6)
   {
     MirrorPlane m;
@@ -361,40 +502,47 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     }
     planes.push_back(m);
   }
-  // The copies: products of reflections, breadth first, up to 8 of them (two
-  // parallel planes generate an endless stack; 8 copies give the original
-  // four neighbours on each side).
-  std::vector<Affine> copies{ Affine::Identity() };
+  return true;
+}
+
+// The copies: products of reflections, breadth first, up to 8 of them (two
+// parallel planes generate an endless stack; 8 copies give the original
+// four neighbours on each side).
+void MedialRun::BuildMirrorCopies()
+{
+  copies.assign(1, Affine::Identity());
+  std::vector<Affine> frontier = copies;
+  const std::size_t maxCopies = 9;
+  while (!frontier.empty() && copies.size() < maxCopies && !planes.empty())
   {
-    std::vector<Affine> frontier = copies;
-    const std::size_t maxCopies = 9;
-    while (!frontier.empty() && copies.size() < maxCopies && !planes.empty())
+    std::vector<Affine> next;
+    for (const Affine& t : frontier)
     {
-      std::vector<Affine> next;
-      for (const Affine& t : frontier)
+      for (const MirrorPlane& m : planes)
       {
-        for (const MirrorPlane& m : planes)
+        const Affine r = m.Reflection.After(t);
+        bool known = false;
+        for (const Affine& c : copies)
         {
-          const Affine r = m.Reflection.After(t);
-          bool known = false;
-          for (const Affine& c : copies)
-          {
-            known = known || c.Near(r, samePoint);
-          }
-          if (!known && copies.size() < maxCopies)
-          {
-            copies.push_back(r);
-            next.push_back(r);
-          }
+          known = known || c.Near(r, samePoint);
+        }
+        if (!known && copies.size() < maxCopies)
+        {
+          copies.push_back(r);
+          next.push_back(r);
         }
       }
-      frontier = std::move(next);
     }
+    frontier = std::move(next);
   }
   out.NumberOfMirrorCopies = copies.size() - 1;
-  std::vector<double> allPoints(points, points + 3 * nPoints);
-  std::vector<double> allNormals(normals, normals + 3 * nPoints);
-  std::vector<double> allEdgeLength = edgeLength;
+}
+
+void MedialRun::AddMirrorImages()
+{
+  allPoints.assign(points, points + 3 * nPoints);
+  allNormals.assign(normals, normals + 3 * nPoints);
+  allEdgeLength = edgeLength;
   if (copies.size() > 1)
   {
     // Mirror images that fall on an existing point (points on a plane) are not added.
@@ -444,40 +592,44 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       }
     }
   }
-  const std::size_t nAll = allEdgeLength.size();
-  // Fold a point into the original side of every symmetry plane.
-  auto fold = [&](double* x) {
-    for (std::size_t pass = 0; pass < 2 * copies.size(); ++pass)
+  nAll = allEdgeLength.size();
+}
+
+void MedialRun::Fold(double* x) const
+{
+  for (std::size_t pass = 0; pass < 2 * copies.size(); ++pass)
+  {
+    bool moved = false;
+    for (const MirrorPlane& m : planes)
     {
-      bool moved = false;
-      for (const MirrorPlane& m : planes)
+      if (m.Distance(x) < -samePoint)
       {
-        if (m.Distance(x) < -samePoint)
-        {
-          double y[3];
-          m.Reflection.Apply(x, y);
-          std::copy(y, y + 3, x);
-          moved = true;
-        }
-      }
-      if (!moved)
-      {
-        return;
+        double y[3];
+        m.Reflection.Apply(x, y);
+        std::copy(y, y + 3, x);
+        moved = true;
       }
     }
-  };
-
-  // ---- Delaunay tetrahedralization (spatially sorted insertion).
-  std::vector<std::pair<Point, std::int64_t>> input;
-  input.reserve(nAll);
-  for (std::size_t i = 0; i < nAll; ++i)
-  {
-    const double* p = allPoints.data() + 3 * i;
-    input.emplace_back(Point(p[0], p[1], p[2]), static_cast<std::int64_t>(i));
+    if (!moved)
+    {
+      return;
+    }
   }
-  Delaunay dt(input.begin(), input.end());
-  input.clear();
-  input.shrink_to_fit();
+}
+
+// ---- Delaunay tetrahedralization (spatially sorted insertion).
+bool MedialRun::Triangulate()
+{
+  {
+    std::vector<std::pair<Point, std::int64_t>> input;
+    input.reserve(nAll);
+    for (std::size_t i = 0; i < nAll; ++i)
+    {
+      const double* p = allPoints.data() + 3 * i;
+      input.emplace_back(Point(p[0], p[1], p[2]), static_cast<std::int64_t>(i));
+    }
+    dt.insert(input.begin(), input.end());
+  }
   if (dt.dimension() < 3)
   {
     error = "the " + std::to_string(nPoints) +
@@ -508,14 +660,12 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     error = msg.str();
     return false;
   }
-  if (aborted(0.4))
-  {
-    error = "aborted.";
-    return false;
-  }
+  return true;
+}
 
-  // ---- Voronoi vertices of the finite tetrahedra and which of them are interior.
-  std::vector<Delaunay::Cell_handle> cells;
+// ---- Voronoi vertices of the finite tetrahedra and which of them are interior.
+void MedialRun::ComputeVoronoiVertices()
+{
   cells.reserve(dt.number_of_finite_cells());
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
   {
@@ -529,42 +679,43 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       c->info() = -1;
     }
   }
-  const std::size_t nCells = cells.size();
+  nCells = cells.size();
   out.NumberOfTetrahedra = nCells;
-  std::vector<double> centre(3 * nCells), radius(nCells);
-  std::vector<char> keep(nCells, 0);
+  centre.resize(3 * nCells);
+  radius.resize(nCells);
+  keep.assign(nCells, 0);
   const double minRadiusFactor = options.MinimumRadiusFactor;
   const double side = options.RegionAgainstNormals ? -1.0 : 1.0;
   ParallelFor(nCells, [&](std::size_t begin, std::size_t end) {
-  for (std::size_t i = begin; i < end; ++i)
-  {
-    const auto& c = cells[i];
-    const Point cc = CGAL::circumcenter(c->vertex(0)->point(), c->vertex(1)->point(),
-      c->vertex(2)->point(), c->vertex(3)->point());
-    double* x = centre.data() + 3 * i;
-    x[0] = cc.x();
-    x[1] = cc.y();
-    x[2] = cc.z();
-    double vote = 0.0, local = 0.0, r = 0.0;
-    for (int k = 0; k < 4; ++k)
+    for (std::size_t i = begin; i < end; ++i)
     {
-      const std::int64_t id = c->vertex(k)->info();
-      const double* p = allPoints.data() + 3 * id;
-      const double* n = allNormals.data() + 3 * id;
-      const double d[3] = { x[0] - p[0], x[1] - p[1], x[2] - p[2] };
-      const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      r += len;
-      if (len > 0.0)
+      const auto& c = cells[i];
+      const Point cc = CGAL::circumcenter(c->vertex(0)->point(), c->vertex(1)->point(),
+        c->vertex(2)->point(), c->vertex(3)->point());
+      double* x = centre.data() + 3 * i;
+      x[0] = cc.x();
+      x[1] = cc.y();
+      x[2] = cc.z();
+      double vote = 0.0, local = 0.0, r = 0.0;
+      for (int k = 0; k < 4; ++k)
       {
-        vote += (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / len;
+        const std::int64_t id = c->vertex(k)->info();
+        const double* p = allPoints.data() + 3 * id;
+        const double* n = allNormals.data() + 3 * id;
+        const double d[3] = { x[0] - p[0], x[1] - p[1], x[2] - p[2] };
+        const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        r += len;
+        if (len > 0.0)
+        {
+          vote += (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / len;
+        }
+        local += allEdgeLength[id];
       }
-      local += allEdgeLength[id];
+      r *= 0.25;
+      local *= 0.25;
+      radius[i] = r;
+      keep[i] = Finite3(x) && side * vote > 0.0 && r >= minRadiusFactor * local;
     }
-    r *= 0.25;
-    local *= 0.25;
-    radius[i] = r;
-    keep[i] = Finite3(x) && side * vote > 0.0 && r >= minRadiusFactor * local;
-  }
   });
   if (inDomain)
   {
@@ -573,22 +724,20 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       if (keep[i])
       {
         double x[3] = { centre[3 * i], centre[3 * i + 1], centre[3 * i + 2] };
-        fold(x);
+        Fold(x);
         keep[i] = inDomain->Contains(Point(x[0], x[1], x[2]));
       }
     }
   }
   out.NumberOfInteriorTetrahedra =
     static_cast<std::size_t>(std::count(keep.begin(), keep.end(), char(1)));
-  if (aborted(0.6))
-  {
-    error = "aborted.";
-    return false;
-  }
+}
 
-  // ---- Coincident Voronoi vertices (cospherical surface points) become one point:
-  // neighbouring tetrahedra whose circumcentres agree to round-off.
-  UnionFind same(nCells);
+// ---- Coincident Voronoi vertices (cospherical surface points) become one point:
+// neighbouring tetrahedra whose circumcentres agree to round-off.
+void MedialRun::MergeCoincidentVertices()
+{
+  same = UnionFind(nCells);
   for (std::size_t i = 0; i < nCells; ++i)
   {
     if (!keep[i])
@@ -606,28 +755,26 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       }
     }
   }
+}
 
-  // ---- Voronoi facets dual to Delaunay edges with an interior ring of tetrahedra.
-  // A ring is walked from a kept cell and abandoned at its first cell that
-  // fails (infinite, not interior, or too small an angle), so that the walks
-  // cost little outside the region; a ring that passes is marked done in all
-  // its cells (a bit per cell and local edge). CGAL's finite_edges iterator
-  // would walk every ring in full, several times over.
-  static const int EdgeIndex[4][4] = { { -1, 0, 1, 2 }, { 0, -1, 3, 4 }, { 1, 3, -1, 5 },
-    { 2, 4, 5, -1 } };
+// ---- Voronoi facets dual to Delaunay edges with an interior ring of tetrahedra.
+// A ring is walked from a kept cell and abandoned at its first cell that
+// fails (infinite, not interior, or too small an angle), so that the walks
+// cost little outside the region; a ring that passes is marked done in all
+// its cells (a bit per cell and local edge). CGAL's finite_edges iterator
+// would walk every ring in full, several times over.
+bool MedialRun::CollectFacets()
+{
   const double minAngle = options.MinimumObjectAngle * Pi / 180.0;
   const double sinHalf = std::sin(0.5 * minAngle);
-  std::vector<std::int64_t> facetOffsets{ 0 }; // polygons of (merged) cell ids
-  std::vector<std::int64_t> facetCells;
-  std::vector<std::int32_t> facetOf(6 * nCells, -1); // per cell and local edge
+  facetOf.assign(6 * nCells, -1);
   std::vector<std::uint8_t> walked(nCells, 0);
   std::vector<std::int64_t> ring;
   std::vector<int> ringEdge;
   for (std::size_t ci = 0; ci < nCells; ++ci)
   {
-    if ((ci & 0xFFFF) == 0 && aborted(0.6 + 0.3 * static_cast<double>(ci) / static_cast<double>(nCells)))
+    if ((ci & 0xFFFF) == 0 && Aborted(0.6 + 0.3 * static_cast<double>(ci) / static_cast<double>(nCells)))
     {
-      error = "aborted.";
       return false;
     }
     if (!keep[ci])
@@ -682,15 +829,17 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       }
     }
   }
-  walked.clear();
-  walked.shrink_to_fit();
-  const std::size_t nFacets = facetOffsets.size() - 1;
+  nFacets = facetOffsets.size() - 1;
   out.NumberOfFacets = nFacets;
+  return true;
+}
 
-  // ---- Sheets: facets joined along Voronoi edges. A Voronoi edge is dual to
-  // a Delaunay triangle (the face between two cells); the facets dual to the
-  // triangle's three edges that were kept share it.
-  UnionFind sheets(nFacets);
+// ---- Sheets: facets joined along Voronoi edges. A Voronoi edge is dual to
+// a Delaunay triangle (the face between two cells); the facets dual to the
+// triangle's three edges that were kept share it.
+void MedialRun::JoinSheets()
+{
+  sheets = UnionFind(nFacets);
   for (std::size_t ci = 0; ci < nCells; ++ci)
   {
     const std::int32_t* f6 = facetOf.data() + 6 * ci;
@@ -733,12 +882,13 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
   }
   facetOf.clear();
   facetOf.shrink_to_fit();
+}
 
-  // Triangulate each facet as a fan (it is planar and convex: a Voronoi face),
-  // skipping the repeated vertices of merged circumcentres.
-  std::vector<std::int64_t> tris;   // cell ids
-  std::vector<std::int64_t> triFacet;
-  std::vector<double> facetArea(nFacets, 0.0);
+// Triangulate each facet as a fan (it is planar and convex: a Voronoi face),
+// skipping the repeated vertices of merged circumcentres.
+void MedialRun::TriangulateFacets()
+{
+  facetArea.assign(nFacets, 0.0);
   std::vector<std::int64_t> poly;
   for (std::size_t f = 0; f < nFacets; ++f)
   {
@@ -767,10 +917,13 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
       facetArea[f] += area;
     }
   }
+}
 
-  // Sheet areas, largest first; ties by the smallest facet root (deterministic).
+// Sheet areas, largest first; ties by the smallest facet root (deterministic).
+void MedialRun::SelectSheets()
+{
   std::vector<std::int64_t> rootOfSheet;
-  std::vector<std::int64_t> sheetOfRoot(nFacets, -1);
+  sheetOfRoot.assign(nFacets, -1);
   std::vector<double> area;
   for (std::size_t f = 0; f < nFacets; ++f)
   {
@@ -788,7 +941,7 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
   std::iota(order.begin(), order.end(), std::int64_t(0));
   std::stable_sort(order.begin(), order.end(),
     [&](std::int64_t a, std::int64_t b) { return area[a] > area[b]; });
-  std::vector<int> newSheetId(rootOfSheet.size(), -1);
+  newSheetId.assign(rootOfSheet.size(), -1);
   const double largest = order.empty() ? 0.0 : area[order[0]];
   for (std::size_t k = 0; k < order.size(); ++k)
   {
@@ -802,8 +955,11 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     newSheetId[order[k]] = static_cast<int>(k);
     out.SheetAreas.push_back(a);
   }
+}
 
-  // ---- Output: compact points.
+// ---- Output: compact points.
+void MedialRun::Output()
+{
   std::vector<std::int64_t> pointOf(nCells, -1);
   for (std::size_t t = 0; t < triFacet.size(); ++t)
   {
@@ -825,7 +981,15 @@ bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double*
     }
     out.SheetId.push_back(sheet);
   }
-  progress && progress(1.0);
-  return true;
+}
+}
+
+bool ComputeMedialSheet(const double* points, std::size_t nPoints, const double* normals,
+  const std::int64_t* triangles, std::size_t nTriangles, const MedialAxisOptions& options,
+  const ClosedSurface* domain, MedialSheet& out, std::string& error,
+  const ProgressCallback& progress)
+{
+  MedialRun run(points, nPoints, normals, triangles, nTriangles, options, domain, out, error, progress);
+  return run.Execute();
 }
 }

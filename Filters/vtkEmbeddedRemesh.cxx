@@ -640,7 +640,8 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
   output->SetPoints(points);
   vtkEmbeddedRemeshCells cells(output);
-  cells.Reserve(result.SourceCell.size() + otherCell.size() + result.Prisms.size() / 6 + result.Pyramids.size() / 5);
+  cells.Reserve(result.SourceCell.size() + otherCell.size() + result.Prisms.size() / 6 + result.Pyramids.size() / 5,
+    4 * result.SourceCell.size() + 8 * otherCell.size() + result.Prisms.size() + result.Pyramids.size());
   cells.AddRefillTetrahedra(result, nullptr, &tetCell, points);
   AddKeptCells(input, otherCell, outOfInput, cells);
   cells.AddRefillLayers(result, nullptr, points);

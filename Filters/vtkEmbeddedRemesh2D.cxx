@@ -775,7 +775,10 @@ bool Remesh2DRun::Cells()
   output->SetPoints(points);
   cellsPtr.reset(new vtkEmbeddedRemeshCells(output));
   vtkEmbeddedRemeshCells& cells = *cellsPtr; // Region 0 kept, 1 new triangle (wedge), 2 layer cell;
-  cells.Reserve(result.SourceCell.size() + otherCells.size() + planeCells.size());
+  // A 2-D cell gives a volume cell (at most 8 points) and at most two plane
+  // faces; a kept cell at most 8 points.
+  cells.Reserve(3 * result.SourceCell.size() + otherCells.size() + planeCells.size(),
+    16 * result.SourceCell.size() + 8 * (otherCells.size() + planeCells.size()));
   // Layer, LayerSide: layer cells' k (0 next to the curve) and side (+1 on the
   // curve's left, ARCavity2D.h; -1 on its right)
   cellKept.assign(input->GetNumberOfCells(), 0);

@@ -668,7 +668,8 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   output->GetFieldData()->ShallowCopy(input->GetFieldData());
   output->SetPoints(points);
   vtkEmbeddedRemeshCells cells(output);
-  cells.Reserve(nT + result.SourceCell.size() + result.Prisms.size() / 6 + result.Pyramids.size() / 5);
+  cells.Reserve(nT + result.SourceCell.size() + result.Prisms.size() / 6 + result.Pyramids.size() / 5,
+    4 * (nT + result.SourceCell.size()) + result.Prisms.size() + result.Pyramids.size());
   for (std::size_t t = 0; t < nT; ++t)
   {
     if (piece.Owned[t] && !gone[piece.TetCell[t]])

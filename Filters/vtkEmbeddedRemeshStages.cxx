@@ -678,13 +678,13 @@ vtkEmbeddedRemeshCells::vtkEmbeddedRemeshCells(vtkUnstructuredGrid* output)
 
 vtkEmbeddedRemeshCells::~vtkEmbeddedRemeshCells() = default;
 
-void vtkEmbeddedRemeshCells::Reserve(std::size_t cells)
+void vtkEmbeddedRemeshCells::Reserve(std::size_t cells, std::size_t points)
 {
   const auto n = static_cast<vtkIdType>(cells);
   this->Types->Allocate(n);
   this->Offsets->Allocate(n + 1);
   this->Offsets->InsertNextValue(0);
-  this->Connectivity->Allocate(4 * n);
+  this->Connectivity->Allocate(static_cast<vtkIdType>(points));
   this->Source.reserve(cells);
   this->RegionArray->Allocate(n);
   this->LayerArray->Allocate(n);

@@ -202,8 +202,9 @@ class vtkEmbeddedRemeshCells
 public:
   explicit vtkEmbeddedRemeshCells(vtkUnstructuredGrid* output);
   ~vtkEmbeddedRemeshCells();
-  /// Room for `cells` cells (of 4 points on average); before the first Add.
-  void Reserve(std::size_t cells);
+  /// Room for `cells` cells of `points` point ids in all, before the first
+  /// Add; Commit gives back what was not used.
+  void Reserve(std::size_t cells, std::size_t points);
   /// One cell of `n` output point ids `pts`; `source` the input cell it is
   /// a copy of (-1 new).
   /// With `points` (the output's), the cell's volume counts in VolumeAfter.

@@ -3,7 +3,6 @@
 
 #include "vtkARMeshKernels.h"
 #include "vtkARParallel.h"
-#include "vtkAppendFilter.h"
 #include "vtkAppendPolyData.h"
 #include "ARSurfaceFit.h"
 #include "ARSurfaceRemesh.h"
@@ -73,8 +72,7 @@ std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& cho
   std::vector<double>& families)
 {
   families.assign(3 * chosen.size(), std::numeric_limits<double>::quiet_NaN());
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
-  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
+  const bool root = vtkARParallel::Rank() == 0;
   auto* flow = vtkStringArray::SafeDownCast(mesh->GetFieldData()->GetAbstractArray("FlowStateArrays"));
   vtkIntArray* ids = vtkIntArray::SafeDownCast(mesh->GetPointData()->GetArray("ClusterId"));
   std::string name = flow && flow->GetNumberOfValues() > 1 ? flow->GetValue(1) : "";
@@ -202,40 +200,6 @@ std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& cho
     }
   }
   return std::string();
-}
-
-/// The owned cells of every rank's piece in one mesh on rank 0 (ghost cells
-/// dropped, the points the pieces share merged: exact duplicates only); an
-/// empty mesh on the other ranks. Collective.
-vtkSmartPointer<vtkUnstructuredGrid> GatherVolumeOnRoot(vtkUnstructuredGrid* piece)
-{
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
-  vtkNew<vtkUnstructuredGrid> owned;
-  owned->DeepCopy(piece);
-  owned->RemoveGhostCells();
-  owned->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
-  owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
-  std::vector<vtkSmartPointer<vtkDataObject>> parts;
-  ctrl->Gather(owned, parts, 0);
-  auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  if (ctrl->GetLocalProcessId() == 0)
-  {
-    vtkNew<vtkAppendFilter> merge;
-    merge->MergePointsOn();
-    merge->SetTolerance(0.0);
-    for (auto& part : parts)
-    {
-      auto* grid = vtkUnstructuredGrid::SafeDownCast(part);
-      if (grid && grid->GetNumberOfCells() > 0)
-      {
-        merge->AddInputData(grid);
-      }
-    }
-    merge->Update();
-    whole->ShallowCopy(merge->GetOutput());
-    whole->GetFieldData()->ShallowCopy(piece->GetFieldData());
-  }
-  return whole;
 }
 }
 
@@ -759,7 +723,7 @@ void AdaptRun::GatherIfHybrid()
     if (other > 0.0)
     {
       alone = true;
-      remeshInput = GatherVolumeOnRoot(volume);
+      remeshInput = vtkARParallel::GatherVolumeOnRoot(volume);
       if (root)
       {
         vtkWarningWithObjectMacro(self, << "AdaptToShocks: the mesh is not tetrahedral (hybrid, or one cell deep): it is "
@@ -849,16 +813,10 @@ bool AdaptRun::Remesh()
   {
     // Every rank gets rank 0's field data (as EmbeddedRemesh's distributed
     // path gives it); the other ranks' meshes are empty.
-    vtkNew<vtkUnstructuredGrid> carrier;
-    if (root)
-    {
-      carrier->GetFieldData()->ShallowCopy(adaptedVolume->GetFieldData());
-    }
-    ctrl->Broadcast(carrier, 0);
+    vtkNew<vtkUnstructuredGrid> empty;
+    vtkARParallel::BroadcastFieldDataFromRoot(root ? adaptedVolume->GetFieldData() : empty->GetFieldData());
     if (!root)
     {
-      vtkNew<vtkUnstructuredGrid> empty;
-      empty->GetFieldData()->ShallowCopy(carrier->GetFieldData());
       output->ShallowCopy(empty);
       surfaces->ShallowCopy(append->GetOutput());
     }

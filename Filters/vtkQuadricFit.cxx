@@ -23,7 +23,6 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
-#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -62,12 +61,6 @@ namespace
 // Per selected point: x y z, Weight (NaN if absent), LocalSize (NaN if
 // absent), the point's id in its rank's input.
 constexpr int Stride = 6;
-
-vtkMultiProcessController* Controller()
-{
-  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
-  return (c && c->GetNumberOfProcesses() > 1) ? c : nullptr;
-}
 
 /// Median of a non-empty vector (the vector is reordered).
 double Median(std::vector<double>& v)
@@ -533,9 +526,8 @@ public:
     , domain(domain_)
     , hasDomain(hasDomain_)
     , output(output_)
-    , ctrl(Controller())
-    , root(!ctrl || ctrl->GetLocalProcessId() == 0)
-    , joinCentring(ctrl && hasDomain_ && self_->GetShockCentring())
+    , root(vtkARParallel::Rank() == 0)
+    , joinCentring(vtkARParallel::NumberOfRanks() > 1 && hasDomain_ && self_->GetShockCentring())
   {
   }
   bool Gather();        ///< every rank's points of the cluster and the domain's boundary on rank 0
@@ -563,7 +555,6 @@ private:
   vtkDataSet* domain;
   const bool hasDomain;
   vtkPolyData* output;
-  vtkMultiProcessController* ctrl;
   const bool root;
   // Gather
   std::vector<double> local;
@@ -615,18 +606,12 @@ std::vector<double> FitRun::Exchange(std::vector<double>& lines, std::string& ar
   exchanged = true;
   if (joinCentring)
   {
-    double header[4] = { static_cast<double>(lines.size()), static_cast<double>(arrayName.size()),
-      cellData ? 1.0 : 0.0, tolerance };
-    ctrl->Broadcast(header, 4, 0);
-    tolerance = header[3];
-    lines.resize(static_cast<std::size_t>(header[0]));
-    arrayName.resize(static_cast<std::size_t>(header[1]));
-    cellData = header[2] > 0.0;
-    if (!lines.empty())
-    {
-      ctrl->Broadcast(&arrayName[0], static_cast<vtkIdType>(arrayName.size()), 0);
-      ctrl->Broadcast(lines.data(), static_cast<vtkIdType>(lines.size()), 0);
-    }
+    std::vector<double> header = { cellData ? 1.0 : 0.0, tolerance };
+    vtkARParallel::BroadcastFromRoot(header);
+    cellData = header[0] > 0.0;
+    tolerance = header[1];
+    vtkARParallel::BroadcastFromRoot(arrayName);
+    vtkARParallel::BroadcastFromRoot(lines);
   }
   return lines.empty() ? std::vector<double>()
                        : ProbeOnAllRanks(domain, arrayName.c_str(), cellData, lines, 2 * CentringSamples + 1, CentringReach, tolerance);

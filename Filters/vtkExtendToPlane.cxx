@@ -75,8 +75,8 @@ struct Edge
  * ExtendToPlane's run: the stages of vtkExtendToPlane::RequestData over the
  * state they share (as Remesh2DRun in vtkEmbeddedRemesh2D.cxx; file-local,
  * so its members keep the names the stages had as locals). A stage returns
- * false when the run ends there: after Fail (an error, the output empty)
- * or when cancelled.
+ * false when the run ends there, after an error (the output empty);
+ * RequestData checks for cancelling between the stages.
  */
 class ExtendRun
 {

@@ -514,8 +514,8 @@ namespace
  * they share (as Remesh2DRun in vtkEmbeddedRemesh2D.cxx; file-local, so its
  * members keep the names the stages had as locals). Every rank runs Gather;
  * rank 0 alone runs the rest. A stage returns false when the run ends there:
- * after Fail (an error, the output empty), on a rank other than 0 (its part
- * done), or when cancelled.
+ * after Fail (an error, the output empty) or on a rank other than 0 (its
+ * part done); ExecuteData checks for cancelling between the stages.
  */
 class FitRun
 {

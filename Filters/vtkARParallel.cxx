@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkARParallel.h"
 
+#include "vtkAppendFilter.h"
 #include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCommunicator.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkGeometryFilter.h"
 #include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
@@ -17,6 +19,7 @@
 #include "vtkPolyData.h"
 #include "vtkStaticCleanPolyData.h"
 #include "vtkTriangleFilter.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
 #include <array>
@@ -28,6 +31,12 @@ int vtkARParallel::NumberOfRanks()
 {
   vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
   return ctrl ? ctrl->GetNumberOfProcesses() : 1;
+}
+
+int vtkARParallel::Rank()
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  return ctrl ? ctrl->GetLocalProcessId() : 0;
 }
 
 void vtkARParallel::AllReduceMax(double* values, int n)
@@ -238,4 +247,77 @@ void vtkARParallel::BroadcastFromRoot(std::vector<std::int64_t>& data)
   std::vector<double> values(data.begin(), data.end());
   BroadcastFromRoot(values);
   data.assign(values.begin(), values.end());
+}
+
+void vtkARParallel::BroadcastFromRoot(std::string& text)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (NumberOfRanks() <= 1 || !ctrl)
+  {
+    return;
+  }
+  vtkIdType n = static_cast<vtkIdType>(text.size());
+  ctrl->Broadcast(&n, 1, 0);
+  text.resize(static_cast<std::size_t>(n));
+  if (n > 0)
+  {
+    ctrl->Broadcast(&text[0], n, 0);
+  }
+}
+
+void vtkARParallel::BroadcastFieldDataFromRoot(vtkFieldData* fd)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  if (NumberOfRanks() <= 1 || !ctrl)
+  {
+    return;
+  }
+  vtkNew<vtkUnstructuredGrid> carrier; // a data object to carry the arrays
+  const bool root = ctrl->GetLocalProcessId() == 0;
+  if (root)
+  {
+    carrier->GetFieldData()->ShallowCopy(fd);
+  }
+  ctrl->Broadcast(carrier, 0);
+  if (!root)
+  {
+    fd->ShallowCopy(carrier->GetFieldData());
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkUnstructuredGrid> vtkARParallel::GatherVolumeOnRoot(vtkUnstructuredGrid* piece)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  vtkNew<vtkUnstructuredGrid> owned;
+  owned->DeepCopy(piece);
+  owned->RemoveGhostCells();
+  owned->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  if (NumberOfRanks() <= 1 || !ctrl)
+  {
+    whole->ShallowCopy(owned);
+    return whole;
+  }
+  std::vector<vtkSmartPointer<vtkDataObject>> parts;
+  ctrl->Gather(owned, parts, 0);
+  if (ctrl->GetLocalProcessId() == 0)
+  {
+    vtkNew<vtkAppendFilter> merge;
+    merge->MergePointsOn();
+    merge->SetTolerance(0.0);
+    for (auto& part : parts)
+    {
+      auto* grid = vtkUnstructuredGrid::SafeDownCast(part);
+      if (grid && grid->GetNumberOfCells() > 0)
+      {
+        merge->AddInputData(grid);
+      }
+    }
+    merge->Update();
+    whole->ShallowCopy(merge->GetOutput());
+    whole->GetFieldData()->ShallowCopy(piece->GetFieldData());
+  }
+  return whole;
 }

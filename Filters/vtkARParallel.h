@@ -15,10 +15,13 @@
 #include "vtkType.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 class vtkDataSet;
+class vtkFieldData;
 class vtkPolyData;
+class vtkUnstructuredGrid;
 
 class vtkARParallel
 {
@@ -30,6 +33,8 @@ public:
   /// other ranks; `local` itself in serial). Collective.
   static std::vector<double> GatherOnRoot(const std::vector<double>& local);
   static int NumberOfRanks();
+  /// This process's rank in the global controller (0 in serial).
+  static int Rank();
 
   /// The boundary surface of a (possibly distributed) volume mesh as
   /// triangles, whole on rank 0 and empty on the other ranks. Faces between
@@ -51,6 +56,16 @@ public:
   /// 2^53). Nothing in serial.
   static void BroadcastFromRoot(std::vector<double>& data);
   static void BroadcastFromRoot(std::vector<std::int64_t>& data);
+  static void BroadcastFromRoot(std::string& text);
+  /// Rank 0's field data into `fd` on the other ranks (rank 0's `fd` is
+  /// left as it is). Nothing in serial.
+  static void BroadcastFieldDataFromRoot(vtkFieldData* fd);
+
+  /// The owned cells of every rank's piece in one mesh on rank 0 (ghost
+  /// cells dropped, the points the pieces share merged: exact duplicates
+  /// only), with rank 0's field data; an empty mesh on the other ranks. In
+  /// serial, the piece's owned cells. Collective.
+  static vtkSmartPointer<vtkUnstructuredGrid> GatherVolumeOnRoot(vtkUnstructuredGrid* piece);
 };
 
 #endif

@@ -3,7 +3,6 @@
 
 #include "vtkARMeshKernels.h"
 #include "vtkARParallel.h"
-#include "vtkAppendFilter.h"
 #include "vtkAppendPolyData.h"
 #include "ARSurfaceFit.h"
 #include "ARSurfaceRemesh.h"
@@ -73,8 +72,7 @@ std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& cho
   std::vector<double>& families)
 {
   families.assign(3 * chosen.size(), std::numeric_limits<double>::quiet_NaN());
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
-  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
+  const bool root = vtkARParallel::Rank() == 0;
   auto* flow = vtkStringArray::SafeDownCast(mesh->GetFieldData()->GetAbstractArray("FlowStateArrays"));
   vtkIntArray* ids = vtkIntArray::SafeDownCast(mesh->GetPointData()->GetArray("ClusterId"));
   std::string name = flow && flow->GetNumberOfValues() > 1 ? flow->GetValue(1) : "";
@@ -203,40 +201,6 @@ std::string TwoShocksMeet(vtkUnstructuredGrid* mesh, const std::vector<int>& cho
   }
   return std::string();
 }
-
-/// The owned cells of every rank's piece in one mesh on rank 0 (ghost cells
-/// dropped, the points the pieces share merged: exact duplicates only); an
-/// empty mesh on the other ranks. Collective.
-vtkSmartPointer<vtkUnstructuredGrid> GatherVolumeOnRoot(vtkUnstructuredGrid* piece)
-{
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
-  vtkNew<vtkUnstructuredGrid> owned;
-  owned->DeepCopy(piece);
-  owned->RemoveGhostCells();
-  owned->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
-  owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
-  std::vector<vtkSmartPointer<vtkDataObject>> parts;
-  ctrl->Gather(owned, parts, 0);
-  auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  if (ctrl->GetLocalProcessId() == 0)
-  {
-    vtkNew<vtkAppendFilter> merge;
-    merge->MergePointsOn();
-    merge->SetTolerance(0.0);
-    for (auto& part : parts)
-    {
-      auto* grid = vtkUnstructuredGrid::SafeDownCast(part);
-      if (grid && grid->GetNumberOfCells() > 0)
-      {
-        merge->AddInputData(grid);
-      }
-    }
-    merge->Update();
-    whole->ShallowCopy(merge->GetOutput());
-    whole->GetFieldData()->ShallowCopy(piece->GetFieldData());
-  }
-  return whole;
-}
 }
 
 
@@ -303,50 +267,126 @@ int vtkAdaptToShocks::RequestData(
 }
 
 //------------------------------------------------------------------------------
-int vtkAdaptToShocks::ExecuteData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+namespace
 {
-  vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);
-  vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
-  vtkPolyData* surfaces = vtkPolyData::GetData(outputVector, 1);
-  surfaces->Initialize();
-  auto passThrough = [&](const std::string& message) {
-    vtkErrorMacro(<< "AdaptToShocks: " << message << " The input passes through unchanged.");
-    output->ShallowCopy(input);
-    surfaces->Initialize();
-    return 1;
-  };
-  auto start = std::chrono::steady_clock::now();
-  auto lap = [&start]() {
-    const auto now = std::chrono::steady_clock::now();
-    const double s = std::chrono::duration<double>(now - start).count();
-    start = now;
-    return s;
-  };
+/**
+ * AdaptToShocks' run: the stages of vtkAdaptToShocks::ExecuteData over the
+ * state they share (as Remesh2DRun in vtkEmbeddedRemesh2D.cxx; file-local,
+ * so its members keep the names the stages had as locals). Every rank runs
+ * every stage (each has collective calls), and every rank decides the same.
+ * A stage returns false when the run ends there: after PassThrough (an
+ * error, the input passed through) or when cancelled.
+ */
+class AdaptRun
+{
+public:
+  AdaptRun(vtkAdaptToShocks* self_, const std::map<int, int>& clusterTemplates_, vtkDataObject* input_,
+    vtkDataObject* output_, vtkPolyData* surfaces_)
+    : self(self_)
+    , clusterTemplates(clusterTemplates_)
+    , input(input_)
+    , output(output_)
+    , surfaces(surfaces_)
+    , start(std::chrono::steady_clock::now())
+  {
+  }
+  bool Check();        ///< the properties EmbeddedRemesh or FeatureCluster would clamp; the volume
+  bool Sense();        ///< 1. the shock sensor
+  bool Cluster();      ///< 2. the clusters of the Mn = 1 band, those that get a surface
+  bool FitEach();      ///< 3. one fitted surface per chosen cluster
+  bool JoinPieces();   ///< the pieces of one shock joined into one surface
+  void DropCrossing(); ///< a surface that crosses a larger cluster's left out
+  void Append();       ///< the kept surfaces, numbered, in one polydata
+  bool Remesh();       ///< 4. the remeshing with every surface embedded
+  void Output();       ///< the outputs and their field data
 
+private:
+  bool PassThrough(const std::string& message);
+  double Lap();
+  vtkSmartPointer<vtkPolyData> FitClusters(
+    const std::vector<int>& ks, std::string& templateName, std::array<double, 2>& measure);
+  void GatherIfHybrid();
+  double SurfacesShockThickness() const;
+
+  vtkAdaptToShocks* self;
+  const std::map<int, int>& clusterTemplates;
+  vtkDataObject* input;
+  vtkDataObject* output;
+  vtkPolyData* surfaces;
+  std::chrono::steady_clock::time_point start;
+  double secondsSensor = 0.0, secondsClusters = 0.0, secondsFit = 0.0, secondsRemesh = 0.0;
+  // Check, Sense, Cluster
+  vtkUnstructuredGrid* volume = nullptr;
+  vtkNew<vtkShockSensor> sensor;
+  vtkUnstructuredGrid* sensed = nullptr;
+  vtkNew<vtkFeatureCluster> clusters;
+  std::vector<double> sizes;
+  std::vector<int> chosen;
+  std::vector<double> families;
+  // FitEach, JoinPieces, DropCrossing, Append
+  std::vector<vtkSmartPointer<vtkPolyData>> fitted;
+  std::vector<std::vector<int>> fittedClusters; // the clusters of each fitted surface
+  std::vector<std::string> fittedTemplate;      // its template's name
+  std::vector<std::array<double, 2>> fittedMeasure; // its RMS residual and edge length
+  std::ostringstream fitProblems;
+  vtkNew<vtkAppendPolyData> append;
+  vtkNew<vtkStringArray> templates;
+  vtkNew<vtkStringArray> members; // "0", or "0+2+1" for a shock joined from pieces
+  // Remesh
+  vtkMultiProcessController* ctrl = nullptr;
+  bool root = true;
+  vtkSmartPointer<vtkDataObject> remeshInput;
+  bool alone = false;
+  double shockThickness = 0.0;
+};
+
+//------------------------------------------------------------------------------
+bool AdaptRun::PassThrough(const std::string& message)
+{
+  vtkErrorWithObjectMacro(self, << "AdaptToShocks: " << message << " The input passes through unchanged.");
+  output->ShallowCopy(input);
+  surfaces->Initialize();
+  return false;
+}
+
+//------------------------------------------------------------------------------
+double AdaptRun::Lap()
+{
+  const auto now = std::chrono::steady_clock::now();
+  const double s = std::chrono::duration<double>(now - start).count();
+  start = now;
+  return s;
+}
+
+//------------------------------------------------------------------------------
+bool AdaptRun::Check()
+{
   // ---- Properties EmbeddedRemesh or FeatureCluster would clamp: refused here.
   std::ostringstream bad;
-  if (this->Mode != 0 && this->Mode != 1)
+  const int mode = self->GetMode();
+  const double removal = self->GetRemovalFactor();
+  const double fraction = self->GetMinimumClusterFraction();
+  if (mode != 0 && mode != 1)
   {
-    bad << "Mode is " << this->Mode << "; it must be 0 (LocalCavity) or 1 (FullDomain). ";
+    bad << "Mode is " << mode << "; it must be 0 (LocalCavity) or 1 (FullDomain). ";
   }
-  if (!(this->RemovalFactor > 0.0) || !std::isfinite(this->RemovalFactor) || this->RemovalFactor > 1e3)
+  if (!(removal > 0.0) || !std::isfinite(removal) || removal > 1e3)
   {
-    bad << "RemovalFactor is " << this->RemovalFactor << "; it must lie in (0, 1000]. ";
+    bad << "RemovalFactor is " << removal << "; it must lie in (0, 1000]. ";
   }
-  if (this->MinimumClusterSize < 1)
+  if (self->GetMinimumClusterSize() < 1)
   {
-    bad << "MinimumClusterSize is " << this->MinimumClusterSize << "; it must be at least 1. ";
+    bad << "MinimumClusterSize is " << self->GetMinimumClusterSize() << "; it must be at least 1. ";
   }
-  if (!(this->MinimumClusterFraction > 0.0 && this->MinimumClusterFraction <= 1.0))
+  if (!(fraction > 0.0 && fraction <= 1.0))
   {
-    bad << "MinimumClusterFraction is " << this->MinimumClusterFraction << "; it must lie in (0, 1]. ";
+    bad << "MinimumClusterFraction is " << fraction << "; it must lie in (0, 1]. ";
   }
-  if (this->MaximumNumberOfSurfaces < 1)
+  if (self->GetMaximumNumberOfSurfaces() < 1)
   {
-    bad << "MaximumNumberOfSurfaces is " << this->MaximumNumberOfSurfaces << "; it must be at least 1. ";
+    bad << "MaximumNumberOfSurfaces is " << self->GetMaximumNumberOfSurfaces() << "; it must be at least 1. ";
   }
-  for (const auto& ct : this->ClusterTemplates)
+  for (const auto& ct : clusterTemplates)
   {
     if (ct.second < vtkQuadricFit::PLANE || ct.second > vtkQuadricFit::AUTOMATIC)
     {
@@ -356,38 +396,41 @@ int vtkAdaptToShocks::ExecuteData(
   }
   if (!bad.str().empty())
   {
-    return passThrough(bad.str());
+    return PassThrough(bad.str());
   }
-  vtkUnstructuredGrid* volume = vtkEmbeddedRemesh::VolumeLeaf(input);
+  volume = vtkEmbeddedRemesh::VolumeLeaf(input);
   if (!volume || volume->GetNumberOfCells() == 0)
   {
-    return passThrough("The input has no volume mesh (an unstructured grid with 3-D cells, or a "
+    return PassThrough("The input has no volume mesh (an unstructured grid with 3-D cells, or a "
                        "multiblock with an internalMesh).");
   }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool AdaptRun::Sense()
+{
   // ---- 1. The shock sensor.
-  vtkNew<vtkShockSensor> sensor;
   sensor->SetInputData(volume);
-  sensor->SetGamma(this->Gamma);
-  sensor->SetGasConstant(this->GasConstant);
+  sensor->SetGamma(self->GetGamma());
+  sensor->SetGasConstant(self->GetGasConstant());
   sensor->Update();
-  vtkUnstructuredGrid* sensed = sensor->GetOutput();
+  sensed = sensor->GetOutput();
   if (!sensed->GetPointData()->GetArray("NormalMach"))
   {
-    return passThrough("the shock sensor could not run (see its message above).");
+    return PassThrough("the shock sensor could not run (see its message above).");
   }
-  const double secondsSensor = lap();
-  this->UpdateProgress(0.2);
-  if (this->CheckAbort())
-  {
-    return 1;
-  }
+  secondsSensor = Lap();
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool AdaptRun::Cluster()
+{
   // ---- 2. The clusters of the Mn = 1 band.
-  vtkNew<vtkFeatureCluster> clusters;
   clusters->SetInputConnection(sensor->GetOutputPort());
-  clusters->SetSensorRange(this->SensorRange);
-  clusters->SetMinimumClusterSize(this->MinimumClusterSize);
+  clusters->SetSensorRange(self->GetSensorRange());
+  clusters->SetMinimumClusterSize(self->GetMinimumClusterSize());
   clusters->Update();
   auto* medial = vtkPolyData::SafeDownCast(clusters->GetOutputDataObject(1));
   // The cluster sizes are rank 0's (with the medial points): every rank
@@ -398,7 +441,7 @@ int vtkAdaptToShocks::ExecuteData(
   double missingMask = header[0] < 0.0 ? 1.0 : 0.0;
   vtkARParallel::AllReduceMax(header, 2);
   vtkARParallel::AllReduceMax(&missingMask, 1);
-  std::vector<double> sizes(static_cast<std::size_t>(header[1]), 0.0);
+  sizes.assign(static_cast<std::size_t>(header[1]), 0.0);
   for (std::size_t k = 0; sizeArray && k < sizes.size(); ++k)
   {
     sizes[k] = sizeArray->GetComponent(static_cast<vtkIdType>(k), 0);
@@ -406,7 +449,7 @@ int vtkAdaptToShocks::ExecuteData(
   vtkARParallel::AllReduceSum(sizes.data(), static_cast<int>(sizes.size()));
   if (missingMask > 0.0 || header[0] <= 0.0)
   {
-    return passThrough("feature clustering could not run (see its message above).");
+    return PassThrough("feature clustering could not run (see its message above).");
   }
   if (sizes.empty())
   {
@@ -419,78 +462,78 @@ int vtkAdaptToShocks::ExecuteData(
     vtkARParallel::AllReduceSum(&shockCells, 1);
     std::ostringstream msg;
     msg << "No shock found: the shock sensor marks " << shockCells
-        << " shock cells, and no cluster of at least MinimumClusterSize (" << this->MinimumClusterSize
+        << " shock cells, and no cluster of at least MinimumClusterSize (" << self->GetMinimumClusterSize()
         << ") nodes has NormalMach in the sensor range.";
-    return passThrough(msg.str());
+    return PassThrough(msg.str());
   }
   // The clusters that get a surface (ids are by decreasing size).
-  std::vector<int> chosen;
   const double largest = sizes[0];
-  for (std::size_t k = 0; k < sizes.size() && static_cast<int>(chosen.size()) < this->MaximumNumberOfSurfaces; ++k)
+  for (std::size_t k = 0; k < sizes.size() && static_cast<int>(chosen.size()) < self->GetMaximumNumberOfSurfaces(); ++k)
   {
-    if (sizes[k] >= this->MinimumClusterFraction * largest)
+    if (sizes[k] >= self->GetMinimumClusterFraction() * largest)
     {
       chosen.push_back(static_cast<int>(k));
     }
   }
   // Two shocks that meet (an X, a V, a lambda) in one cluster: no template
   // fits them, and the fit's residual alone does not show it.
-  std::vector<double> families;
   const std::string meeting = TwoShocksMeet(clusters->GetOutput(), chosen, sizes, families);
   if (!meeting.empty())
   {
-    return passThrough(meeting);
+    return PassThrough(meeting);
   }
-  const double secondsClusters = lap();
-  this->UpdateProgress(0.35);
-  if (this->CheckAbort())
-  {
-    return 1;
-  }
+  secondsClusters = Lap();
+  return true;
+}
 
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkPolyData> AdaptRun::FitClusters(
+  const std::vector<int>& ks, std::string& templateName, std::array<double, 2>& measure)
+{
+  // One QuadricFit of the clusters `ks` together; its surface (null if none)
+  // and its template's name, RMS residual and edge length.
+  vtkNew<vtkQuadricFit> fit;
+  fit->SetInputConnection(clusters->GetOutputPort(1));
+  fit->SetDomainData(volume);
+  fit->SetClusterId(ks[0]);
+  fit->SetExtraClusterIds(std::vector<int>(ks.begin() + 1, ks.end()));
+  const auto named = clusterTemplates.find(ks[0]);
+  fit->SetTemplate(named == clusterTemplates.end() ? vtkQuadricFit::AUTOMATIC : named->second);
+  fit->Update();
+  vtkPolyData* surface = fit->GetOutput();
+  auto* name = vtkStringArray::SafeDownCast(surface->GetFieldData()->GetAbstractArray("Template"));
+  vtkDataArray* rms = surface->GetFieldData()->GetArray("RMSResidual");
+  vtkDataArray* edge = surface->GetFieldData()->GetArray("SurfaceEdgeLength");
+  // (the surface is on rank 0 under MPI: every rank decides the same)
+  const double lowest = -std::numeric_limits<double>::max();
+  double have[3] = { name && surface->GetNumberOfCells() > 0 ? 1.0 : 0.0, rms ? rms->GetComponent(0, 0) : lowest,
+    edge ? edge->GetComponent(0, 0) : lowest };
+  vtkARParallel::AllReduceMax(have, 3);
+  measure = { have[1], have[2] };
+  templateName = name ? name->GetValue(0) : "";
+  vtkSmartPointer<vtkPolyData> copy;
+  if (have[0] > 0.0)
+  {
+    copy = vtkSmartPointer<vtkPolyData>::New();
+    copy->ShallowCopy(surface);
+  }
+  return copy;
+}
+
+//------------------------------------------------------------------------------
+bool AdaptRun::FitEach()
+{
   // ---- 3. One fitted surface per chosen cluster, then the pieces of one
-  // shock joined: a captured shock often falls into several clusters (where
-  // the band thins, or at a wall), and the centred fits of its pieces lie on
-  // one surface, overlapping and a fraction of a cell apart, which leaves
-  // slivers between them (9.7 degrees on wedge20Ma4tri's three planes).
-  std::vector<vtkSmartPointer<vtkPolyData>> fitted;
-  std::vector<std::vector<int>> fittedClusters; // the clusters of each fitted surface
-  std::vector<std::string> fittedTemplate;      // its template's name
-  std::vector<std::array<double, 2>> fittedMeasure; // its RMS residual and edge length
-  std::ostringstream fitProblems;
-  auto fitClusters = [&](const std::vector<int>& ks, std::string& templateName, std::array<double, 2>& measure) {
-    vtkNew<vtkQuadricFit> fit;
-    fit->SetInputConnection(clusters->GetOutputPort(1));
-    fit->SetDomainData(volume);
-    fit->SetClusterId(ks[0]);
-    fit->SetExtraClusterIds(std::vector<int>(ks.begin() + 1, ks.end()));
-    const auto named = this->ClusterTemplates.find(ks[0]);
-    fit->SetTemplate(named == this->ClusterTemplates.end() ? vtkQuadricFit::AUTOMATIC : named->second);
-    fit->Update();
-    vtkPolyData* surface = fit->GetOutput();
-    auto* name = vtkStringArray::SafeDownCast(surface->GetFieldData()->GetAbstractArray("Template"));
-    vtkDataArray* rms = surface->GetFieldData()->GetArray("RMSResidual");
-    vtkDataArray* edge = surface->GetFieldData()->GetArray("SurfaceEdgeLength");
-    // (the surface is on rank 0 under MPI: every rank decides the same)
-    const double lowest = -std::numeric_limits<double>::max();
-    double have[3] = { name && surface->GetNumberOfCells() > 0 ? 1.0 : 0.0, rms ? rms->GetComponent(0, 0) : lowest,
-      edge ? edge->GetComponent(0, 0) : lowest };
-    vtkARParallel::AllReduceMax(have, 3);
-    measure = { have[1], have[2] };
-    templateName = name ? name->GetValue(0) : "";
-    vtkSmartPointer<vtkPolyData> copy;
-    if (have[0] > 0.0)
-    {
-      copy = vtkSmartPointer<vtkPolyData>::New();
-      copy->ShallowCopy(surface);
-    }
-    return copy;
-  };
+  // shock joined (JoinPieces): a captured shock often falls into several
+  // clusters (where the band thins, or at a wall), and the centred fits of
+  // its pieces lie on one surface, overlapping and a fraction of a cell
+  // apart, which leaves slivers between them (9.7 degrees on wedge20Ma4tri's
+  // three planes).
   for (const int k : chosen)
   {
     std::string name;
     std::array<double, 2> measure;
-    vtkSmartPointer<vtkPolyData> surface = fitClusters({ k }, name, measure);
+    vtkSmartPointer<vtkPolyData> surface = FitClusters({ k }, name, measure);
     if (!surface)
     {
       fitProblems << " cluster " << k << " (" << sizes[k] << " nodes)";
@@ -500,18 +543,24 @@ int vtkAdaptToShocks::ExecuteData(
     fittedClusters.push_back({ k });
     fittedTemplate.push_back(name);
     fittedMeasure.push_back(measure);
-    if (this->CheckAbort())
+    if (self->CheckAbort())
     {
-      return 1;
+      return false;
     }
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool AdaptRun::JoinPieces()
+{
   // Join two surfaces when one surface fits both clusters' points as well as
   // each alone: its RMS residual within the automatic template's bound of the
   // worse one (1.25 x + 0.1 of the edge length). Two different shocks (two
   // planes apart, a plane and a cone) leave a residual of their distance.
   // Clusters with a template of their own (ClusterTemplates) stay alone.
   auto own = [this](const std::vector<int>& ks) {
-    return std::any_of(ks.begin(), ks.end(), [this](int k) { return this->ClusterTemplates.count(k) > 0; });
+    return std::any_of(ks.begin(), ks.end(), [this](int k) { return this->clusterTemplates.count(k) > 0; });
   };
   for (std::size_t i = 0; i < fitted.size(); ++i)
   {
@@ -525,7 +574,7 @@ int vtkAdaptToShocks::ExecuteData(
       both.insert(both.end(), fittedClusters[j].begin(), fittedClusters[j].end());
       std::string name;
       std::array<double, 2> measure;
-      vtkSmartPointer<vtkPolyData> surface = fitClusters(both, name, measure);
+      vtkSmartPointer<vtkPolyData> surface = FitClusters(both, name, measure);
       const double worse = std::max(fittedMeasure[i][0], fittedMeasure[j][0]);
       const double edge = std::max(fittedMeasure[i][1], fittedMeasure[j][1]);
       if (surface && measure[0] <= ar::AutomaticTemplateRatio * worse + ar::AutomaticTemplateSlack * edge)
@@ -540,91 +589,97 @@ int vtkAdaptToShocks::ExecuteData(
         fittedMeasure.erase(fittedMeasure.begin() + j);
         j = i; // the joined surface against the rest again
       }
-      if (this->CheckAbort())
+      if (self->CheckAbort())
       {
-        return 1;
+        return false;
       }
     }
   }
   if (fitted.empty())
   {
-    return passThrough("no surface could be fitted to the shock clusters (" + fitProblems.str() +
+    return PassThrough("no surface could be fitted to the shock clusters (" + fitProblems.str() +
       "; see the messages above).");
   }
   if (!fitProblems.str().empty())
   {
-    vtkWarningMacro(<< "AdaptToShocks: no surface was fitted to" << fitProblems.str()
+    vtkWarningWithObjectMacro(self, << "AdaptToShocks: no surface was fitted to" << fitProblems.str()
                     << "; the other surfaces are used.");
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void AdaptRun::DropCrossing()
+{
   // A surface that crosses a larger cluster's surface (e.g. a piece of the
   // same shock split off near its foot, or a second shock that meets the
   // first) cannot be embedded with it: it is left out, with a warning.
+  auto arrays = [](vtkPolyData* pd, std::vector<double>& p, std::vector<std::int64_t>& t) {
+    p.resize(3 * static_cast<std::size_t>(pd->GetNumberOfPoints()));
+    for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
+    {
+      pd->GetPoint(i, &p[3 * i]);
+    }
+    t.clear();
+    vtkIdType npts;
+    const vtkIdType* ids;
+    vtkCellArray* polys = pd->GetPolys();
+    for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+    {
+      for (vtkIdType k = 1; k + 1 < npts; ++k)
+      {
+        t.insert(t.end(), { ids[0], ids[k], ids[k + 1] });
+      }
+    }
+  };
+  std::vector<std::vector<double>> pts(fitted.size());
+  std::vector<std::vector<std::int64_t>> tris(fitted.size());
+  for (std::size_t i = 0; i < fitted.size(); ++i)
   {
-    auto arrays = [](vtkPolyData* pd, std::vector<double>& p, std::vector<std::int64_t>& t) {
-      p.resize(3 * static_cast<std::size_t>(pd->GetNumberOfPoints()));
-      for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
-      {
-        pd->GetPoint(i, &p[3 * i]);
-      }
-      t.clear();
-      vtkIdType npts;
-      const vtkIdType* ids;
-      vtkCellArray* polys = pd->GetPolys();
-      for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
-      {
-        for (vtkIdType k = 1; k + 1 < npts; ++k)
-        {
-          t.insert(t.end(), { ids[0], ids[k], ids[k + 1] });
-        }
-      }
-    };
-    std::vector<std::vector<double>> pts(fitted.size());
-    std::vector<std::vector<std::int64_t>> tris(fitted.size());
-    for (std::size_t i = 0; i < fitted.size(); ++i)
-    {
-      arrays(fitted[i], pts[i], tris[i]);
-    }
-    std::vector<std::size_t> keptIndex;
-    for (std::size_t i = 0; i < fitted.size(); ++i)
-    {
-      int crossed = -1;
-      for (std::size_t j : keptIndex)
-      {
-        // (every rank decides the same: the surfaces live on rank 0 under MPI)
-        double hit = ar::SurfacesIntersect(pts[j], tris[j], pts[i], tris[i]) ? 1.0 : 0.0;
-        vtkARParallel::AllReduceMax(&hit, 1);
-        if (hit > 0.0)
-        {
-          crossed = static_cast<int>(j);
-          break;
-        }
-      }
-      if (crossed >= 0)
-      {
-        // (a surface's first cluster is its largest)
-        vtkWarningMacro(<< "AdaptToShocks: the surface of cluster " << fittedClusters[i][0] << " ("
-                        << sizes[fittedClusters[i][0]] << " nodes) crosses the surface of cluster "
-                        << fittedClusters[crossed][0] << " and is left out.");
-        continue;
-      }
-      keptIndex.push_back(i);
-    }
-    std::vector<vtkSmartPointer<vtkPolyData>> kept;
-    for (const std::size_t i : keptIndex)
-    {
-      kept.push_back(fitted[i]);
-      fittedTemplate[kept.size() - 1] = fittedTemplate[i];
-      fittedClusters[kept.size() - 1] = fittedClusters[i];
-    }
-    fitted = kept;
-    fittedTemplate.resize(kept.size());
-    fittedClusters.resize(kept.size());
+    arrays(fitted[i], pts[i], tris[i]);
   }
+  std::vector<std::size_t> keptIndex;
+  for (std::size_t i = 0; i < fitted.size(); ++i)
+  {
+    int crossed = -1;
+    for (std::size_t j : keptIndex)
+    {
+      // (every rank decides the same: the surfaces live on rank 0 under MPI)
+      double hit = ar::SurfacesIntersect(pts[j], tris[j], pts[i], tris[i]) ? 1.0 : 0.0;
+      vtkARParallel::AllReduceMax(&hit, 1);
+      if (hit > 0.0)
+      {
+        crossed = static_cast<int>(j);
+        break;
+      }
+    }
+    if (crossed >= 0)
+    {
+      // (a surface's first cluster is its largest)
+      vtkWarningWithObjectMacro(self, << "AdaptToShocks: the surface of cluster " << fittedClusters[i][0] << " ("
+                      << sizes[fittedClusters[i][0]] << " nodes) crosses the surface of cluster "
+                      << fittedClusters[crossed][0] << " and is left out.");
+      continue;
+    }
+    keptIndex.push_back(i);
+  }
+  std::vector<vtkSmartPointer<vtkPolyData>> kept;
+  for (const std::size_t i : keptIndex)
+  {
+    kept.push_back(fitted[i]);
+    fittedTemplate[kept.size() - 1] = fittedTemplate[i];
+    fittedClusters[kept.size() - 1] = fittedClusters[i];
+  }
+  fitted = kept;
+  fittedTemplate.resize(kept.size());
+  fittedClusters.resize(kept.size());
+}
+
+//------------------------------------------------------------------------------
+void AdaptRun::Append()
+{
   // The kept surfaces, numbered, in one polydata; their templates.
-  vtkNew<vtkAppendPolyData> append;
-  vtkNew<vtkStringArray> templates;
   templates->SetName("SurfaceTemplates");
-  vtkNew<vtkStringArray> members; // "0", or "0+2+1" for a shock joined from pieces
   members->SetName("SurfaceClusters");
   for (std::size_t i = 0; i < fitted.size(); ++i)
   {
@@ -643,17 +698,20 @@ int vtkAdaptToShocks::ExecuteData(
     templates->InsertNextValue(fittedTemplate[i]);
   }
   append->Update();
-  const double secondsFit = lap();
-  this->UpdateProgress(0.5);
+  secondsFit = Lap();
+}
 
-  // ---- 4. The remeshing with every surface embedded. EmbeddedRemesh
-  // distributes tetrahedral meshes only: under MPI a hybrid or one-cell-deep
-  // volume (the 2-D mode) is gathered to rank 0 and remeshed there alone.
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+//------------------------------------------------------------------------------
+void AdaptRun::GatherIfHybrid()
+{
+  // EmbeddedRemesh distributes tetrahedral meshes only: under MPI a hybrid
+  // or one-cell-deep volume (the 2-D mode) is gathered to rank 0 and
+  // remeshed there alone.
+  ctrl = vtkMultiProcessController::GetGlobalController();
   const bool distributed = ctrl && ctrl->GetNumberOfProcesses() > 1;
-  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
-  vtkSmartPointer<vtkDataObject> remeshInput = input;
-  bool alone = false;
+  root = !ctrl || ctrl->GetLocalProcessId() == 0;
+  remeshInput = input;
+  alone = false;
   if (distributed && vtkUnstructuredGrid::SafeDownCast(input))
   {
     double other = 0.0;
@@ -665,54 +723,67 @@ int vtkAdaptToShocks::ExecuteData(
     if (other > 0.0)
     {
       alone = true;
-      remeshInput = GatherVolumeOnRoot(volume);
+      remeshInput = vtkARParallel::GatherVolumeOnRoot(volume);
       if (root)
       {
-        vtkWarningMacro(<< "AdaptToShocks: the mesh is not tetrahedral (hybrid, or one cell deep): it is "
+        vtkWarningWithObjectMacro(self, << "AdaptToShocks: the mesh is not tetrahedral (hybrid, or one cell deep): it is "
                            "gathered to rank 0 ("
                         << vtkUnstructuredGrid::SafeDownCast(remeshInput)->GetNumberOfCells()
                         << " cells) and remeshed there; the other ranks' outputs are empty.");
       }
     }
   }
+}
+
+//------------------------------------------------------------------------------
+double AdaptRun::SurfacesShockThickness() const
+{
+  // QuadricFit's ShockThickness, the median over the surfaces (the fields
+  // are on rank 0 under MPI). Collective.
+  double thickness = 0.0;
+  const double lowest = -std::numeric_limits<double>::max();
+  std::vector<double> widths(fitted.size(), lowest);
+  for (std::size_t i = 0; i < fitted.size(); ++i)
+  {
+    vtkDataArray* t = fitted[i]->GetFieldData()->GetArray("ShockThickness");
+    widths[i] = t && t->GetNumberOfTuples() > 0 ? t->GetComponent(0, 0) : lowest;
+  }
+  if (!widths.empty())
+  {
+    vtkARParallel::AllReduceMax(widths.data(), static_cast<int>(widths.size()));
+  }
+  std::vector<double> positive;
+  std::copy_if(widths.begin(), widths.end(), std::back_inserter(positive), [](double w) { return w > 0.0; });
+  if (!positive.empty())
+  {
+    std::sort(positive.begin(), positive.end());
+    thickness = positive[positive.size() / 2];
+  }
+  return thickness;
+}
+
+//------------------------------------------------------------------------------
+bool AdaptRun::Remesh()
+{
+  // ---- 4. The remeshing with every surface embedded.
+  GatherIfHybrid();
   vtkNew<vtkEmbeddedRemesh> remesh;
   remesh->SetInputData(remeshInput);
   for (const auto& s : fitted)
   {
     remesh->AddSurfaceData(s);
   }
-  remesh->SetMode(this->Mode);
-  remesh->SetSurfaceEdgeLength(this->SurfaceEdgeLength);
-  remesh->SetSurfaceSizeFactor(this->SurfaceSizeFactor);
-  remesh->SetLayerType(this->LayerType);
-  remesh->SetNumberOfLayers(this->NumberOfLayers);
-  // The prism stack spans the captured shock: half its thickness per side
-  // (QuadricFit's ShockThickness, the median over the surfaces; the fields
-  // are on rank 0 under MPI), unless TotalThickness is given.
-  double shockThickness = 0.0;
-  {
-    const double lowest = -std::numeric_limits<double>::max();
-    std::vector<double> widths(fitted.size(), lowest);
-    for (std::size_t i = 0; i < fitted.size(); ++i)
-    {
-      vtkDataArray* t = fitted[i]->GetFieldData()->GetArray("ShockThickness");
-      widths[i] = t && t->GetNumberOfTuples() > 0 ? t->GetComponent(0, 0) : lowest;
-    }
-    if (!widths.empty())
-    {
-      vtkARParallel::AllReduceMax(widths.data(), static_cast<int>(widths.size()));
-    }
-    std::vector<double> positive;
-    std::copy_if(widths.begin(), widths.end(), std::back_inserter(positive), [](double w) { return w > 0.0; });
-    if (!positive.empty())
-    {
-      std::sort(positive.begin(), positive.end());
-      shockThickness = positive[positive.size() / 2];
-    }
-  }
-  remesh->SetTotalThickness(this->TotalThickness > 0.0 ? this->TotalThickness : 0.5 * shockThickness);
-  remesh->SetRemovalFactor(this->RemovalFactor);
-  remesh->SetInterpolateFields(this->InterpolateFields);
+  remesh->SetMode(self->GetMode());
+  remesh->SetSurfaceEdgeLength(self->GetSurfaceEdgeLength());
+  remesh->SetSurfaceSizeFactor(self->GetSurfaceSizeFactor());
+  remesh->SetLayerType(self->GetLayerType());
+  remesh->SetNumberOfLayers(self->GetNumberOfLayers());
+  // The prism stack spans the captured shock: half its thickness per side,
+  // unless TotalThickness is given.
+  shockThickness = SurfacesShockThickness();
+  remesh->SetTotalThickness(self->GetTotalThickness() > 0.0 ? self->GetTotalThickness() : 0.5 * shockThickness);
+  remesh->SetRemovalFactor(self->GetRemovalFactor());
+  remesh->SetInterpolateFields(self->GetInterpolateFields());
   if (!alone)
   {
     remesh->Update();
@@ -736,33 +807,32 @@ int vtkAdaptToShocks::ExecuteData(
   }
   if (remeshed == 0.0)
   {
-    return passThrough("the remeshing failed (see EmbeddedRemesh's message above).");
+    return PassThrough("the remeshing failed (see EmbeddedRemesh's message above).");
   }
   if (alone)
   {
     // Every rank gets rank 0's field data (as EmbeddedRemesh's distributed
     // path gives it); the other ranks' meshes are empty.
-    vtkNew<vtkUnstructuredGrid> carrier;
-    if (root)
-    {
-      carrier->GetFieldData()->ShallowCopy(adaptedVolume->GetFieldData());
-    }
-    ctrl->Broadcast(carrier, 0);
+    vtkNew<vtkUnstructuredGrid> empty;
+    vtkARParallel::BroadcastFieldDataFromRoot(root ? adaptedVolume->GetFieldData() : empty->GetFieldData());
     if (!root)
     {
-      vtkNew<vtkUnstructuredGrid> empty;
-      empty->GetFieldData()->ShallowCopy(carrier->GetFieldData());
       output->ShallowCopy(empty);
       surfaces->ShallowCopy(append->GetOutput());
     }
   }
-  const double secondsRemesh = lap();
-
+  secondsRemesh = Lap();
   if (!alone || root)
   {
     output->ShallowCopy(adapted);
     surfaces->ShallowCopy(append->GetOutput());
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void AdaptRun::Output()
+{
   vtkUnstructuredGrid* outVolume = vtkUnstructuredGrid::SafeDownCast(output);
   outVolume = outVolume ? outVolume : vtkEmbeddedRemesh::VolumeLeaf(output);
   vtkFieldData* fd = outVolume->GetFieldData();
@@ -786,7 +856,36 @@ int vtkAdaptToShocks::ExecuteData(
   fd->AddArray(vtkARMeshKernels::FieldArray("SecondsClusters", &secondsClusters, 1));
   fd->AddArray(vtkARMeshKernels::FieldArray("SecondsFit", &secondsFit, 1));
   fd->AddArray(vtkARMeshKernels::FieldArray("SecondsRemesh", &secondsRemesh, 1));
-  this->UpdateProgress(1.0);
+}
+}
+
+//------------------------------------------------------------------------------
+int vtkAdaptToShocks::ExecuteData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);
+  vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
+  vtkPolyData* surfaces = vtkPolyData::GetData(outputVector, 1);
+  surfaces->Initialize();
+  AdaptRun run(this, this->ClusterTemplates, input, output, surfaces);
+  // Every rank runs every stage; a stage that fails has said why.
+  auto proceed = [&](double progress, bool abortable) {
+    this->UpdateProgress(progress);
+    return !abortable || !this->CheckAbort();
+  };
+  if (!(run.Check() && run.Sense() && proceed(0.2, true) && run.Cluster() && proceed(0.35, true) &&
+        run.FitEach() && run.JoinPieces()))
+  {
+    return 1;
+  }
+  run.DropCrossing();
+  run.Append();
+  this->UpdateProgress(0.5);
+  if (run.Remesh())
+  {
+    run.Output();
+    this->UpdateProgress(1.0);
+  }
   return 1;
 }
 

@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkExtendToPlane);
@@ -69,51 +70,97 @@ struct Edge
   vtkIdType to;
 };
 
-}
-
-vtkExtendToPlane::vtkExtendToPlane() = default;
-
-int vtkExtendToPlane::FillInputPortInformation(int, vtkInformation* info)
+//------------------------------------------------------------------------------
+/**
+ * ExtendToPlane's run: the stages of vtkExtendToPlane::RequestData over the
+ * state they share (as Remesh2DRun in vtkEmbeddedRemesh2D.cxx; file-local,
+ * so its members keep the names the stages had as locals). A stage returns
+ * false when the run ends there, after an error (the output empty);
+ * RequestData checks for cancelling between the stages.
+ */
+class ExtendRun
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
-  return 1;
-}
-
-int vtkExtendToPlane::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  vtkDataSet* input = vtkDataSet::GetData(inputVector[0], 0);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  this->NumberOfExtendedEdges = 0;
-
-  // ---- Parameters.
-  if (!Finite3(this->PlaneNormal) || !Finite3(this->PlaneOrigin))
+public:
+  ExtendRun(vtkExtendToPlane* self_, vtkDataSet* input_, vtkPolyData* output_, vtkIdType& numberOfExtendedEdges_)
+    : self(self_)
+    , input(input_)
+    , output(output_)
+    , numberOfExtendedEdges(numberOfExtendedEdges_)
+    , o(self_->GetPlaneOrigin())
   {
-    vtkErrorMacro("ExtendToPlane: PlaneOrigin or PlaneNormal is not finite (NaN or Inf); the "
-                  "output is empty.");
-    return 1;
   }
-  double n[3] = { this->PlaneNormal[0], this->PlaneNormal[1], this->PlaneNormal[2] };
+  bool Parameters();   ///< the plane and the ranges checked
+  bool Triangles();    ///< the input's polygons as clean triangles
+  void Side();         ///< the normal towards the side the surface lies on
+  bool Trim();         ///< what lies farther than TrimDistance from the plane
+  void Edges();        ///< the open edges, the mean edge length, the gap
+  bool Columns();      ///< the edges extended, the rows of their end points' columns
+  void OutputPoints(); ///< the surface's points, then the columns'
+  void OutputCells();  ///< the surface's polygons, then the strips; the field data
+
+private:
+  bool Fail(const std::string& message)
+  {
+    vtkErrorWithObjectMacro(self, << "ExtendToPlane: " << message);
+    return false;
+  }
+  double SignedDistance(const double x[3]) const
+  {
+    return n[0] * (x[0] - o[0]) + n[1] * (x[1] - o[1]) + n[2] * (x[2] - o[2]);
+  }
+
+  vtkExtendToPlane* self;
+  vtkDataSet* input;
+  vtkPolyData* output;
+  vtkIdType& numberOfExtendedEdges;
+  const double* o;
+  double n[3] = { 0.0, 0.0, 0.0 };
+  // Triangles, Trim
+  vtkSmartPointer<vtkPolyData> surface;
+  vtkPoints* points = nullptr;
+  // Edges
+  vtkIdType numPoints = 0;
+  std::vector<double> s;
+  std::vector<Edge> open;
+  double h = 0.0, onPlane = 0.0, gap = 0.0;
+  // Columns, OutputPoints
+  std::vector<Edge> extended;
+  std::vector<vtkIdType> rows;
+  double newPoints = 0.0;
+  std::vector<std::vector<vtkIdType>> column;
+};
+
+//------------------------------------------------------------------------------
+bool ExtendRun::Parameters()
+{
+  // ---- Parameters.
+  const double* normal = self->GetPlaneNormal();
+  if (!Finite3(normal) || !Finite3(o))
+  {
+    return Fail("PlaneOrigin or PlaneNormal is not finite (NaN or Inf); the output is empty.");
+  }
+  std::copy(normal, normal + 3, n);
   if (vtkMath::Normalize(n) <= 0.0)
   {
-    vtkErrorMacro("ExtendToPlane: PlaneNormal is zero; the output is empty.");
-    return 1;
+    return Fail("PlaneNormal is zero; the output is empty.");
   }
   vtkARInputChecks::Properties ranges;
-  ranges.InRange("TrimDistance", this->TrimDistance, 0.0, VTK_DOUBLE_MAX)
-    .InRange("MaximumGap", this->MaximumGap, 0.0, VTK_DOUBLE_MAX, "0 automatic");
+  ranges.InRange("TrimDistance", self->GetTrimDistance(), 0.0, VTK_DOUBLE_MAX)
+    .InRange("MaximumGap", self->GetMaximumGap(), 0.0, VTK_DOUBLE_MAX, "0 automatic");
   if (!ranges.Ok())
   {
-    vtkErrorMacro("ExtendToPlane: " << ranges.Message() << "The output is empty.");
-    return 1;
+    return Fail(ranges.Message() + "The output is empty.");
   }
-  const double* o = this->PlaneOrigin;
   if (!input || input->GetNumberOfCells() == 0)
   {
-    vtkErrorMacro("ExtendToPlane: the input has no cells; the output is empty.");
-    return 1;
+    return Fail("the input has no cells; the output is empty.");
   }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool ExtendRun::Triangles()
+{
   // ---- Triangles of the input.
   auto asPoly = vtkSmartPointer<vtkPolyData>::New();
   if (auto* pd = vtkPolyData::SafeDownCast(input))
@@ -127,76 +174,76 @@ int vtkExtendToPlane::RequestData(
     geometry->Update();
     asPoly->ShallowCopy(geometry->GetOutput());
   }
-  vtkSmartPointer<vtkPolyData> surface = CleanTriangles(asPoly);
+  surface = CleanTriangles(asPoly);
   if (surface->GetNumberOfPolys() == 0)
   {
-    vtkErrorMacro("ExtendToPlane: the input has no polygons (a surface is needed); the output is "
-                  "empty.");
-    return 1;
+    return Fail("the input has no polygons (a surface is needed); the output is empty.");
   }
   const std::string nonFinite = vtkARInputChecks::NonFinitePoints(surface, "the surface");
   if (!nonFinite.empty())
   {
-    vtkErrorMacro("ExtendToPlane: " << nonFinite << "The output is empty.");
-    return 1;
+    return Fail(nonFinite + "The output is empty.");
   }
-  vtkPoints* points = surface->GetPoints();
-  this->UpdateProgress(0.2);
+  points = surface->GetPoints();
+  return true;
+}
 
+//------------------------------------------------------------------------------
+void ExtendRun::Side()
+{
   // ---- Side: flip the normal when the surface lies mostly behind the plane
   // (area-weighted mean signed distance negative).
+  double moment = 0.0;
+  vtkIdType npts;
+  const vtkIdType* ids;
+  vtkCellArray* polys = surface->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
   {
-    double moment = 0.0;
-    vtkIdType npts;
-    const vtkIdType* ids;
-    vtkCellArray* polys = surface->GetPolys();
-    for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+    double a[3], b[3], c[3];
+    points->GetPoint(ids[0], a);
+    points->GetPoint(ids[1], b);
+    points->GetPoint(ids[2], c);
+    double u[3], v[3], w[3];
+    for (int k = 0; k < 3; ++k)
     {
-      double a[3], b[3], c[3];
-      points->GetPoint(ids[0], a);
-      points->GetPoint(ids[1], b);
-      points->GetPoint(ids[2], c);
-      double u[3], v[3], w[3];
-      for (int k = 0; k < 3; ++k)
-      {
-        u[k] = b[k] - a[k];
-        v[k] = c[k] - a[k];
-      }
-      vtkMath::Cross(u, v, w);
-      const double area = 0.5 * vtkMath::Norm(w);
-      double centroid[3];
-      for (int k = 0; k < 3; ++k)
-      {
-        centroid[k] = (a[k] + b[k] + c[k]) / 3.0 - o[k];
-      }
-      moment += area * vtkMath::Dot(centroid, n);
+      u[k] = b[k] - a[k];
+      v[k] = c[k] - a[k];
     }
-    if (moment < 0.0)
+    vtkMath::Cross(u, v, w);
+    const double area = 0.5 * vtkMath::Norm(w);
+    double centroid[3];
+    for (int k = 0; k < 3; ++k)
     {
-      n[0] = -n[0];
-      n[1] = -n[1];
-      n[2] = -n[2];
+      centroid[k] = (a[k] + b[k] + c[k]) / 3.0 - o[k];
     }
+    moment += area * vtkMath::Dot(centroid, n);
   }
-  auto signedDistance = [&](const double x[3]) {
-    return n[0] * (x[0] - o[0]) + n[1] * (x[1] - o[1]) + n[2] * (x[2] - o[2]);
-  };
+  if (moment < 0.0)
+  {
+    n[0] = -n[0];
+    n[1] = -n[1];
+    n[2] = -n[2];
+  }
+}
 
+//------------------------------------------------------------------------------
+bool ExtendRun::Trim()
+{
   // ---- Trim: keep s > TrimDistance.
+  const double trim = self->GetTrimDistance();
   bool needsClip = false;
   for (vtkIdType i = 0; i < points->GetNumberOfPoints() && !needsClip; ++i)
   {
     double x[3];
     points->GetPoint(i, x);
-    needsClip = signedDistance(x) <= this->TrimDistance;
+    needsClip = SignedDistance(x) <= trim;
   }
   if (needsClip)
   {
     // vtkPolyDataPlaneClipper keeps the normal's side and cuts exactly
     // (vtkClipPolyData interpolates in single precision).
     vtkNew<vtkPlane> plane;
-    plane->SetOrigin(o[0] + this->TrimDistance * n[0], o[1] + this->TrimDistance * n[1],
-      o[2] + this->TrimDistance * n[2]);
+    plane->SetOrigin(o[0] + trim * n[0], o[1] + trim * n[1], o[2] + trim * n[2]);
     plane->SetNormal(n);
     vtkNew<vtkPolyDataPlaneClipper> clip;
     clip->SetInputData(surface);
@@ -207,25 +254,25 @@ int vtkExtendToPlane::RequestData(
     points = surface->GetPoints();
     if (surface->GetNumberOfPolys() == 0)
     {
-      vtkErrorMacro("ExtendToPlane: nothing of the surface lies farther than TrimDistance = "
-        << this->TrimDistance << " from the plane on the normal's side; the output is empty.");
-      return 1;
+      vtkErrorWithObjectMacro(self, "ExtendToPlane: nothing of the surface lies farther than TrimDistance = "
+        << trim << " from the plane on the normal's side; the output is empty.");
+      return false;
     }
   }
-  if (this->CheckAbort())
-  {
-    return 1;
-  }
-  this->UpdateProgress(0.4);
+  return true;
+}
 
+//------------------------------------------------------------------------------
+void ExtendRun::Edges()
+{
   // ---- Edges: sorted (lo, hi) pairs; open edges are used by one polygon.
-  const vtkIdType numPoints = surface->GetNumberOfPoints();
-  std::vector<double> s(numPoints);
+  numPoints = surface->GetNumberOfPoints();
+  s.resize(numPoints);
   for (vtkIdType i = 0; i < numPoints; ++i)
   {
     double x[3];
     points->GetPoint(i, x);
-    s[i] = signedDistance(x);
+    s[i] = SignedDistance(x);
   }
   std::vector<Edge> edges;
   edges.reserve(3 * surface->GetNumberOfPolys());
@@ -245,7 +292,6 @@ int vtkExtendToPlane::RequestData(
   }
   std::sort(edges.begin(), edges.end(),
     [](const Edge& p, const Edge& q) { return p.lo < q.lo || (p.lo == q.lo && p.hi < q.hi); });
-  std::vector<Edge> open;
   double lengthSum = 0.0;
   vtkIdType uniqueEdges = 0;
   for (std::size_t i = 0; i < edges.size();)
@@ -266,17 +312,20 @@ int vtkExtendToPlane::RequestData(
     }
     i = j;
   }
-  const double h = lengthSum / static_cast<double>(uniqueEdges);
-  const double onPlane = 1e-9 * h;
+  h = lengthSum / static_cast<double>(uniqueEdges);
+  onPlane = 1e-9 * h;
   double smin = VTK_DOUBLE_MAX;
   for (const Edge& e : open)
   {
     smin = std::min(smin, std::min(s[e.lo], s[e.hi]));
   }
-  const double gap = this->MaximumGap > 0.0 ? this->MaximumGap : (open.empty() ? 0.0 : smin + h);
+  gap = self->GetMaximumGap() > 0.0 ? self->GetMaximumGap() : (open.empty() ? 0.0 : smin + h);
+}
 
+//------------------------------------------------------------------------------
+bool ExtendRun::Columns()
+{
   // ---- Columns at the end points of the extended edges.
-  std::vector<Edge> extended;
   for (const Edge& e : open)
   {
     // Side edges leaving the plane at more than 30 degrees are not extended.
@@ -303,9 +352,8 @@ int vtkExtendToPlane::RequestData(
       extended.push_back(e);
     }
   }
-  this->NumberOfExtendedEdges = static_cast<vtkIdType>(extended.size());
-  std::vector<vtkIdType> rows(numPoints, -1); // -1: no column
-  double newPoints = 0.0;
+  numberOfExtendedEdges = static_cast<vtkIdType>(extended.size());
+  rows.assign(numPoints, -1); // -1: no column
   for (const Edge& e : extended)
   {
     for (vtkIdType v : { e.lo, e.hi })
@@ -320,14 +368,19 @@ int vtkExtendToPlane::RequestData(
   }
   if (newPoints > 1e7)
   {
-    vtkErrorMacro("ExtendToPlane: the strips would need " << newPoints
+    vtkErrorWithObjectMacro(self, "ExtendToPlane: the strips would need " << newPoints
                                                           << " points (over 10 million): the "
                                                              "surface is far from the plane for its "
                                                              "edge length; the output is empty.");
-    this->NumberOfExtendedEdges = 0;
-    return 1;
+    numberOfExtendedEdges = 0;
+    return false;
   }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+void ExtendRun::OutputPoints()
+{
   // ---- Output: the surface, then the columns' points.
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataType(VTK_DOUBLE);
@@ -340,7 +393,7 @@ int vtkExtendToPlane::RequestData(
     outPoints->InsertNextPoint(points->GetPoint(i));
     outPD->CopyData(inPD, i, i);
   }
-  std::vector<std::vector<vtkIdType>> column(numPoints);
+  column.resize(numPoints);
   for (vtkIdType v = 0; v < numPoints; ++v)
   {
     if (rows[v] < 0)
@@ -359,8 +412,12 @@ int vtkExtendToPlane::RequestData(
       column[v].push_back(id);
     }
   }
-  this->UpdateProgress(0.7);
+  output->SetPoints(outPoints);
+}
 
+//------------------------------------------------------------------------------
+void ExtendRun::OutputCells()
+{
   vtkNew<vtkCellArray> outPolys;
   vtkCellData* inCD = surface->GetCellData();
   vtkCellData* outCD = output->GetCellData();
@@ -411,21 +468,59 @@ int vtkExtendToPlane::RequestData(
       flag->InsertNextValue(1);
     }
   }
-  output->SetPoints(outPoints);
   output->SetPolys(outPolys);
   outCD->AddArray(flag);
   output->GetFieldData()->PassData(input->GetFieldData());
   output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("ExtendPlaneNormal", n, 3));
   output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("ExtendMeanEdgeLength", &h, 1));
   output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("ExtendMaximumGap", &gap, 1));
-  const double count = static_cast<double>(this->NumberOfExtendedEdges);
+  const double count = static_cast<double>(numberOfExtendedEdges);
   output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray("NumberOfExtendedEdges", &count, 1));
   if (extended.empty())
   {
-    vtkWarningMacro("ExtendToPlane: no open boundary edge lies within MaximumGap = "
+    vtkWarningWithObjectMacro(self, "ExtendToPlane: no open boundary edge lies within MaximumGap = "
       << gap << " of the plane; nothing was extended.");
   }
-  this->UpdateProgress(1.0);
+}
+}
+
+vtkExtendToPlane::vtkExtendToPlane() = default;
+
+int vtkExtendToPlane::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  return 1;
+}
+
+int vtkExtendToPlane::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkDataSet* input = vtkDataSet::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  this->NumberOfExtendedEdges = 0;
+  ExtendRun run(this, input, output, this->NumberOfExtendedEdges);
+  // A stage that fails has said why; the output is then empty.
+  auto proceed = [&](double progress, bool abortable) {
+    this->UpdateProgress(progress);
+    return !abortable || !this->CheckAbort();
+  };
+  if (!(run.Parameters() && run.Triangles() && proceed(0.2, false)))
+  {
+    return 1;
+  }
+  run.Side();
+  if (!(run.Trim() && !this->CheckAbort() && proceed(0.4, false)))
+  {
+    return 1;
+  }
+  run.Edges();
+  if (run.Columns())
+  {
+    run.OutputPoints();
+    this->UpdateProgress(0.7);
+    run.OutputCells();
+    this->UpdateProgress(1.0);
+  }
   return 1;
 }
 

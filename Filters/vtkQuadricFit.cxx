@@ -23,7 +23,6 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
-#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -62,12 +61,6 @@ namespace
 // Per selected point: x y z, Weight (NaN if absent), LocalSize (NaN if
 // absent), the point's id in its rank's input.
 constexpr int Stride = 6;
-
-vtkMultiProcessController* Controller()
-{
-  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
-  return (c && c->GetNumberOfProcesses() > 1) ? c : nullptr;
-}
 
 /// Median of a non-empty vector (the vector is reordered).
 double Median(std::vector<double>& v)
@@ -514,29 +507,121 @@ int vtkQuadricFit::RequestData(
 }
 
 //------------------------------------------------------------------------------
-int vtkQuadricFit::ExecuteData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+namespace
 {
-  vtkPointSet* input = vtkPointSet::GetData(inputVector[0], 0);
-  const bool hasDomain = this->GetNumberOfInputConnections(1) > 0;
-  vtkDataSet* domain = hasDomain ? vtkDataSet::GetData(inputVector[1], 0) : nullptr;
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  output->Initialize();
-  vtkMultiProcessController* ctrl = Controller();
-  const bool root = !ctrl || ctrl->GetLocalProcessId() == 0;
+/**
+ * QuadricFit's run: the stages of vtkQuadricFit::ExecuteData over the state
+ * they share (as Remesh2DRun in vtkEmbeddedRemesh2D.cxx; file-local, so its
+ * members keep the names the stages had as locals). Every rank runs Gather;
+ * rank 0 alone runs the rest. A stage returns false when the run ends there:
+ * after Fail (an error, the output empty) or on a rank other than 0 (its
+ * part done); ExecuteData checks for cancelling between the stages.
+ */
+class FitRun
+{
+public:
+  FitRun(vtkQuadricFit* self_, vtkPointSet* input_, vtkDataSet* domain_, bool hasDomain_, vtkPolyData* output_)
+    : self(self_)
+    , input(input_)
+    , domain(domain_)
+    , hasDomain(hasDomain_)
+    , output(output_)
+    , root(vtkARParallel::Rank() == 0)
+    , joinCentring(vtkARParallel::NumberOfRanks() > 1 && hasDomain_ && self_->GetShockCentring())
+  {
+  }
+  bool Gather();        ///< every rank's points of the cluster and the domain's boundary on rank 0
+  bool Points();        ///< the cluster's points checked: coordinates, Weight, LocalSize
+  bool Fit();           ///< Eq. 4, then the geometric refinement
+  bool Centre();        ///< shock centring: the points moved to the half-jump, fitted again
+  bool Mesh();          ///< the edge length, the margin, the surface meshed around the cluster
+  bool TrimToCluster(); ///< what lies within the margin of a point's foot on the surface
+  bool TrimToDomain();  ///< what lies inside the Domain
+  bool Output();        ///< the trimmed surface and its field data
 
-  // ---- This rank's points of the cluster (no collective call before the
-  // gathers below, so that every rank reaches them).
-  std::ostringstream problem;
-  problem << vtkARInputChecks::Properties()
-               .InRange("ClusterId", this->ClusterId, -1, VTK_INT_MAX, "-1 fits every point")
-               .InRange("SurfaceEdgeLength", this->SurfaceEdgeLength, 0.0, VTK_DOUBLE_MAX, "0 automatic")
-               .InRange("Margin", this->Margin, 1.0, 1e6, "in edge lengths")
-               .Message();
+private:
+  void LocalPoints(std::ostringstream& problem, double flags[6]);
+  bool FitPoints(const double* P, const double* W, std::size_t count, ar::SurfaceFitResult& f, std::string& e);
+  void CentringLines(bool& cellData, std::vector<double>& lines, std::vector<double>& normals,
+    std::vector<double>& scale);
+  void AlongBoundary(vtkStaticCellLocator* onBoundary, vtkIdList* near, std::size_t j, double l, double g[3]);
+  void Refit(const std::vector<double>& values, const std::vector<double>& normals,
+    const std::vector<double>& scale);
+  std::vector<double> Exchange(std::vector<double>& lines, std::string& arrayName, bool& cellData);
+  bool Fail(const std::string& message);
+
+  vtkQuadricFit* self;
+  vtkPointSet* input;
+  vtkDataSet* domain;
+  const bool hasDomain;
+  vtkPolyData* output;
+  const bool root;
+  // Gather
   std::vector<double> local;
-  // [0] input points, [1] has ClusterId, [2] has Weight, [3] has LocalSize,
-  // [4] largest id, [5] -(smallest id)
-  double flags[6] = { 0.0, 0.0, 0.0, 0.0, -1e300, -1e300 };
+  double status[7] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
+  std::vector<double> packed;
+  vtkSmartPointer<vtkPolyData> boundary;
+  // ShockCentring under MPI: rank 0 sends its lines through the points (or
+  // none), and every rank probes its piece of the domain along them.
+  const bool joinCentring;
+  bool exchanged = false;
+  double tolerance = 0.0; // the probe's, set by rank 0
+  // Points
+  std::size_t n = 0;
+  bool haveIds = false, haveWeight = false, haveSize = false;
+  std::vector<double> xyz, w, sizes;
+  // Fit
+  double typical = 0.0;
+  ar::SurfaceFitOptions options;
+  ar::SurfaceFitResult fit;
+  std::string error;
+  double residuals[4] = { 0.0, 0.0, 0.0, 0.0 }; // plane, cone, quadric, quartic (automatic template)
+  // Centre
+  double centred = 0.0, centringShift = 0.0, shockThickness = 0.0;
+  std::string centringUsed;
+  // Mesh, TrimToCluster, TrimToDomain
+  double h = 0.0, reach = 0.0;
+  ar::SurfaceMesh mesh;
+  vtkNew<vtkPolyData> surface;
+  vtkSmartPointer<vtkPolyData> trimmed;
+};
+
+//------------------------------------------------------------------------------
+bool FitRun::Fail(const std::string& message)
+{
+  vtkErrorWithObjectMacro(self, << message << " The output is empty.");
+  if (joinCentring && !exchanged)
+  {
+    std::vector<double> none;
+    std::string noName;
+    bool cellData = false;
+    Exchange(none, noName, cellData); // the other ranks wait for it
+  }
+  return false;
+}
+
+//------------------------------------------------------------------------------
+std::vector<double> FitRun::Exchange(std::vector<double>& lines, std::string& arrayName, bool& cellData)
+{
+  exchanged = true;
+  if (joinCentring)
+  {
+    std::vector<double> header = { cellData ? 1.0 : 0.0, tolerance };
+    vtkARParallel::BroadcastFromRoot(header);
+    cellData = header[0] > 0.0;
+    tolerance = header[1];
+    vtkARParallel::BroadcastFromRoot(arrayName);
+    vtkARParallel::BroadcastFromRoot(lines);
+  }
+  return lines.empty() ? std::vector<double>()
+                       : ProbeOnAllRanks(domain, arrayName.c_str(), cellData, lines, 2 * CentringSamples + 1, CentringReach, tolerance);
+}
+
+//------------------------------------------------------------------------------
+void FitRun::LocalPoints(std::ostringstream& problem, double flags[6])
+{
+  const int clusterId = self->GetClusterId();
+  const std::vector<int>& extra = self->GetExtraClusterIds();
   const vtkIdType npts = input ? input->GetNumberOfPoints() : 0;
   flags[0] = static_cast<double>(npts);
   if (npts > 0)
@@ -564,7 +649,7 @@ int vtkQuadricFit::ExecuteData(
     flags[1] = ids ? 1.0 : 0.0;
     flags[2] = weight ? 1.0 : 0.0;
     flags[3] = size ? 1.0 : 0.0;
-    if (problem.str().empty() && (ids || this->ClusterId < 0))
+    if (problem.str().empty() && (ids || clusterId < 0))
     {
       const double nan = std::numeric_limits<double>::quiet_NaN();
       vtkUnsignedCharArray* ghosts = input->GetPointGhostArray();
@@ -579,9 +664,8 @@ int vtkQuadricFit::ExecuteData(
           const double id = ids->GetComponent(p, 0);
           flags[4] = std::max(flags[4], id);
           flags[5] = std::max(flags[5], -id);
-          if (this->ClusterId >= 0 && id != this->ClusterId &&
-            std::find(this->ExtraClusterIds.begin(), this->ExtraClusterIds.end(), static_cast<int>(id)) ==
-              this->ExtraClusterIds.end())
+          if (clusterId >= 0 && id != clusterId &&
+            std::find(extra.begin(), extra.end(), static_cast<int>(id)) == extra.end())
           {
             continue;
           }
@@ -594,49 +678,40 @@ int vtkQuadricFit::ExecuteData(
       }
     }
   }
-  double status[7] = { flags[0], flags[1], flags[2], flags[3], flags[4], flags[5],
-    problem.str().empty() ? 0.0 : 1.0 };
+}
+
+//------------------------------------------------------------------------------
+bool FitRun::Gather()
+{
+  // ---- This rank's points of the cluster (no collective call before the
+  // gathers below, so that every rank reaches them).
+  std::ostringstream problem;
+  problem << vtkARInputChecks::Properties()
+               .InRange("ClusterId", self->GetClusterId(), -1, VTK_INT_MAX, "-1 fits every point")
+               .InRange("SurfaceEdgeLength", self->GetSurfaceEdgeLength(), 0.0, VTK_DOUBLE_MAX, "0 automatic")
+               .InRange("Margin", self->GetMargin(), 1.0, 1e6, "in edge lengths")
+               .Message();
+  // [0] input points, [1] has ClusterId, [2] has Weight, [3] has LocalSize,
+  // [4] largest id, [5] -(smallest id)
+  double flags[6] = { 0.0, 0.0, 0.0, 0.0, -1e300, -1e300 };
+  LocalPoints(problem, flags);
+  std::copy(flags, flags + 6, status);
+  status[6] = problem.str().empty() ? 0.0 : 1.0;
   vtkARParallel::AllReduceSum(status, 1);
   vtkARParallel::AllReduceMax(status + 1, 6);
   if (status[6] > 0.0)
   {
     if (!problem.str().empty())
     {
-      vtkErrorMacro(<< problem.str() << "The output is empty.");
+      vtkErrorWithObjectMacro(self, << problem.str() << "The output is empty.");
     }
-    return 1;
+    return false;
   }
-  const std::vector<double> packed = vtkARParallel::GatherOnRoot(local);
-  vtkSmartPointer<vtkPolyData> boundary;
+  packed = vtkARParallel::GatherOnRoot(local);
   if (hasDomain)
   {
     boundary = vtkARParallel::GatherDomainBoundary(domain);
   }
-  // ShockCentring under MPI: rank 0 sends its lines through the points (or
-  // none), and every rank probes its piece of the domain along them.
-  const bool joinCentring = ctrl && hasDomain && this->ShockCentring;
-  bool exchanged = false;
-  double tolerance = 0.0; // the probe's, set by rank 0
-  auto exchange = [&](std::vector<double>& lines, std::string& arrayName, bool& cellData) {
-    exchanged = true;
-    if (joinCentring)
-    {
-      double header[4] = { static_cast<double>(lines.size()), static_cast<double>(arrayName.size()),
-        cellData ? 1.0 : 0.0, tolerance };
-      ctrl->Broadcast(header, 4, 0);
-      tolerance = header[3];
-      lines.resize(static_cast<std::size_t>(header[0]));
-      arrayName.resize(static_cast<std::size_t>(header[1]));
-      cellData = header[2] > 0.0;
-      if (!lines.empty())
-      {
-        ctrl->Broadcast(&arrayName[0], static_cast<vtkIdType>(arrayName.size()), 0);
-        ctrl->Broadcast(lines.data(), static_cast<vtkIdType>(lines.size()), 0);
-      }
-    }
-    return lines.empty() ? std::vector<double>()
-                         : ProbeOnAllRanks(domain, arrayName.c_str(), cellData, lines, 2 * CentringSamples + 1, CentringReach, tolerance);
-  };
   if (!root)
   {
     if (joinCentring)
@@ -644,50 +719,46 @@ int vtkQuadricFit::ExecuteData(
       std::vector<double> lines;
       std::string arrayName;
       bool cellData = false;
-      exchange(lines, arrayName, cellData);
+      Exchange(lines, arrayName, cellData);
     }
-    return 1; // rank 0 fits and meshes the surface
+    return false; // rank 0 fits and meshes the surface
   }
-  this->UpdateProgress(0.1);
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool FitRun::Points()
+{
   // ---- Validate the cluster's points.
-  const std::size_t n = packed.size() / Stride;
-  const bool haveIds = status[1] > 0.0, haveWeight = status[2] > 0.0, haveSize = status[3] > 0.0;
-  auto fail = [&](const std::string& message) {
-    vtkErrorMacro(<< message << " The output is empty.");
-    if (joinCentring && !exchanged)
-    {
-      std::vector<double> none;
-      std::string noName;
-      bool cellData = false;
-      exchange(none, noName, cellData); // the other ranks wait for it
-    }
-    return 1;
-  };
+  n = packed.size() / Stride;
+  haveIds = status[1] > 0.0;
+  haveWeight = status[2] > 0.0;
+  haveSize = status[3] > 0.0;
   if (status[0] == 0.0)
   {
-    return fail("The input has no points.");
+    return Fail("The input has no points.");
   }
-  if (this->ClusterId >= 0 && !haveIds)
+  if (self->GetClusterId() >= 0 && !haveIds)
   {
-    return fail("The input has no point array 'ClusterId' (the medial points of "
+    return Fail("The input has no point array 'ClusterId' (the medial points of "
                 "FeatureCluster's output port 1 have it); set ClusterId to -1 to fit all points.");
   }
   if (n == 0)
   {
     std::ostringstream msg;
-    msg << "No point has ClusterId " << this->ClusterId << " (the ids present run from "
+    msg << "No point has ClusterId " << self->GetClusterId() << " (the ids present run from "
         << -status[5] << " to " << status[4] << ").";
-    return fail(msg.str());
+    return Fail(msg.str());
   }
-  std::vector<double> xyz(3 * n), w(n), sizes;
+  xyz.assign(3 * n, 0.0);
+  w.assign(n, 0.0);
   for (std::size_t j = 0; j < n; ++j)
   {
     const double* r = &packed[Stride * j];
     const long long id = static_cast<long long>(r[5]);
     if (!(std::isfinite(r[0]) && std::isfinite(r[1]) && std::isfinite(r[2])))
     {
-      return fail("Point " + std::to_string(id) + " has a NaN or infinite coordinate.");
+      return Fail("Point " + std::to_string(id) + " has a NaN or infinite coordinate.");
     }
     std::copy(r, r + 3, &xyz[3 * j]);
     if (haveWeight)
@@ -696,7 +767,7 @@ int vtkQuadricFit::ExecuteData(
       {
         std::ostringstream msg;
         msg << "The Weight of point " << id << " is " << r[3] << ": it must be positive and finite.";
-        return fail(msg.str());
+        return Fail(msg.str());
       }
       w[j] = r[3];
     }
@@ -707,7 +778,7 @@ int vtkQuadricFit::ExecuteData(
         std::ostringstream msg;
         msg << "The LocalSize of point " << id << " is " << r[4]
             << ": it must be positive and finite.";
-        return fail(msg.str());
+        return Fail(msg.str());
       }
       if (!haveWeight)
       {
@@ -722,20 +793,34 @@ int vtkQuadricFit::ExecuteData(
   }
   if (!haveWeight && !haveSize)
   {
-    vtkWarningMacro("The input has neither a 'Weight' nor a 'LocalSize' point array: every "
+    vtkWarningWithObjectMacro(self, "The input has neither a 'Weight' nor a 'LocalSize' point array: every "
                     "point gets weight 1.");
   }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool FitRun::FitPoints(const double* P, const double* W, std::size_t count, ar::SurfaceFitResult& f, std::string& e)
+{
+  return self->GetTemplate() == vtkQuadricFit::AUTOMATIC
+    ? ar::FitSurfaceAutomatic(P, W, count, options, self->GetRobustFit(), typical, f, e, residuals)
+    : self->GetRobustFit() ? ar::FitSurfaceRobust(P, W, count, options, f, e)
+                           : ar::FitSurface(P, W, count, options, f, e);
+}
+
+//------------------------------------------------------------------------------
+bool FitRun::Fit()
+{
   // ---- Fit (Eq. 4, then the geometric refinement).
-  if (this->Template < PLANE || this->Template > AUTOMATIC)
+  const int templ = self->GetTemplate();
+  if (templ < vtkQuadricFit::PLANE || templ > vtkQuadricFit::AUTOMATIC)
   {
     std::ostringstream msg;
-    msg << "Template is " << this->Template
+    msg << "Template is " << templ
         << "; it must be 0 (Plane), 1 (Quadric), 2 (Cone), 3 (Quartic) or 4 (Automatic).";
-    return fail(msg.str());
+    return Fail(msg.str());
   }
   // The points' typical local size (the median l_j), for the automatic choice.
-  double typical = 0.0;
   if (!sizes.empty())
   {
     typical = Median(sizes);
@@ -749,217 +834,237 @@ int vtkQuadricFit::ExecuteData(
     }
     typical = Median(inv);
   }
-  ar::SurfaceFitOptions options;
-  options.Template = this->Template == AUTOMATIC ? ar::SurfaceTemplate::Plane
-                                                 : static_cast<ar::SurfaceTemplate>(this->Template);
-  options.AutomaticAxis = this->UseAutomaticAxis;
-  std::copy(this->AxisOrigin, this->AxisOrigin + 3, options.AxisOrigin);
-  std::copy(this->AxisDirection, this->AxisDirection + 3, options.AxisDirection);
-  options.GeometricRefinement = this->GeometricRefinement;
-  ar::SurfaceFitResult fit;
-  std::string error;
-  double residuals[4] = { 0.0, 0.0, 0.0, 0.0 }; // plane, cone, quadric, quartic (automatic template)
-  auto fitPoints = [&](const double* P, const double* W, std::size_t count, ar::SurfaceFitResult& f,
-                     std::string& e) {
-    return this->Template == AUTOMATIC
-      ? ar::FitSurfaceAutomatic(P, W, count, options, this->RobustFit, typical, f, e, residuals)
-      : this->RobustFit ? ar::FitSurfaceRobust(P, W, count, options, f, e)
-                        : ar::FitSurface(P, W, count, options, f, e);
-  };
-  if (!fitPoints(xyz.data(), w.data(), n, fit, error))
+  options.Template = templ == vtkQuadricFit::AUTOMATIC ? ar::SurfaceTemplate::Plane
+                                                       : static_cast<ar::SurfaceTemplate>(templ);
+  options.AutomaticAxis = self->GetUseAutomaticAxis();
+  const double* axisOrigin = self->GetAxisOrigin();
+  const double* axisDirection = self->GetAxisDirection();
+  std::copy(axisOrigin, axisOrigin + 3, options.AxisOrigin);
+  std::copy(axisDirection, axisDirection + 3, options.AxisDirection);
+  options.GeometricRefinement = self->GetGeometricRefinement();
+  if (!FitPoints(xyz.data(), w.data(), n, fit, error))
   {
-    return fail(error);
+    return Fail(error);
   }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool FitRun::Centre()
+{
   // ---- Shock centring: the points moved along the fit's normal to the
   // half-jump of the centring array, and fitted again.
-  double centred = 0.0, centringShift = 0.0, shockThickness = 0.0;
-  std::string centringUsed;
-  if (this->ShockCentring && hasDomain)
+  if (self->GetShockCentring() && hasDomain)
   {
-    bool cellData = false;
-    vtkDataArray* array = CentringArrayOf(domain, this->CentringArray, cellData, centringUsed);
     std::vector<double> lines, normals(3 * n, 0.0), scale(n, 0.0);
-    const int samples = 2 * CentringSamples + 1;
-    if (!array)
-    {
-      vtkWarningMacro(<< "ShockCentring: the Domain has no one-component array "
-                      << (this->CentringArray && std::string(this->CentringArray) != vtkShockSensor::AutomaticArrayName
-                             ? std::string("'") + this->CentringArray + "'"
-                             : std::string("of pressure or density (p, Pressure, rho, Density, ...)"))
-                      << "; the points are fitted where they are.");
-      centringUsed.clear();
-    }
-    else if (!haveSize && !haveWeight)
-    {
-      vtkWarningMacro("ShockCentring: the points have neither LocalSize nor Weight, so no length for "
-                      "the centring lines; the points are fitted where they are.");
-      centringUsed.clear();
-    }
-    else
-    {
-      lines.resize(3 * n * samples);
-      tolerance = 1e-6 * typical; // typical > 0: the points have LocalSize or Weight
-      vtkSmartPointer<vtkStaticCellLocator> onBoundary;
-      if (boundary && boundary->GetNumberOfCells() > 0)
-      {
-        onBoundary = vtkSmartPointer<vtkStaticCellLocator>::New();
-        onBoundary->SetDataSet(boundary);
-        onBoundary->BuildLocator();
-      }
-      vtkNew<vtkIdList> near;
-      for (std::size_t j = 0; j < n; ++j)
-      {
-        const double l = haveSize ? packed[Stride * j + 4] : 1.0 / w[j];
-        scale[j] = l;
-        // The unit normal: the gradient of the signed distance.
-        double g[3], len = 0.0;
-        for (int a = 0; a < 3; ++a)
-        {
-          double xp[3] = { xyz[3 * j], xyz[3 * j + 1], xyz[3 * j + 2] }, xm[3] = { xp[0], xp[1], xp[2] };
-          xp[a] += 1e-3 * l;
-          xm[a] -= 1e-3 * l;
-          g[a] = (ar::SurfaceDistance(fit, xp) - ar::SurfaceDistance(fit, xm)) / (2e-3 * l);
-          len += g[a] * g[a];
-        }
-        len = std::sqrt(len);
-        for (int a = 0; a < 3 && len > 0.0 && std::isfinite(len); ++a)
-        {
-          g[a] /= len;
-        }
-        // A point on the domain's boundary (a symmetry plane, the front or
-        // back plane of a one-cell-deep mesh) centres along the boundary: a
-        // normal tilted out of it by a hair would leave half the line outside.
-        // (Any line across the shock finds the half-jump on the shock.)
-        if (onBoundary)
-        {
-          // Every boundary face within 1e-3 LocalSize (a point on an edge of
-          // two planes, e.g. the outlet and the front plane, lies on both).
-          const double r = 1e-3 * l;
-          double box[6] = { xyz[3 * j] - r, xyz[3 * j] + r, xyz[3 * j + 1] - r, xyz[3 * j + 1] + r,
-            xyz[3 * j + 2] - r, xyz[3 * j + 2] + r };
-          near->Reset();
-          onBoundary->FindCellsWithinBounds(box, near);
-          near->Sort(); // the bins' order varies with the threads
-          // The directions normal to the boundary there, independent of the
-          // faces' order: the eigenvectors of sum n n^T with a weight of at
-          // least a fifth of the faces' (one for a plane, two along an edge).
-          double m[3][3] = { { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
-          int faces = 0;
-          for (vtkIdType c = 0; c < near->GetNumberOfIds(); ++c)
-          {
-            vtkCell* face = boundary->GetCell(near->GetId(c));
-            double nb[3], p0[3];
-            vtkPolygon::ComputeNormal(face->GetPoints(), nb);
-            face->GetPoints()->GetPoint(0, p0);
-            const double off = nb[0] * (xyz[3 * j] - p0[0]) + nb[1] * (xyz[3 * j + 1] - p0[1]) +
-              nb[2] * (xyz[3 * j + 2] - p0[2]);
-            if (std::abs(off) > r)
-            {
-              continue;
-            }
-            ++faces;
-            for (int u = 0; u < 3; ++u)
-            {
-              for (int v = 0; v < 3; ++v)
-              {
-                m[u][v] += nb[u] * nb[v];
-              }
-            }
-          }
-          if (faces > 0)
-          {
-            double* rows[3] = { m[0], m[1], m[2] };
-            double eigen[3], vec[3][3];
-            double* vecs[3] = { vec[0], vec[1], vec[2] };
-            vtkMath::Jacobi(rows, eigen, vecs); // eigenvectors in the columns
-            for (int k = 0; k < 3; ++k)
-            {
-              if (eigen[k] >= 0.2 * faces)
-              {
-                const double nb[3] = { vec[0][k], vec[1][k], vec[2][k] };
-                const double d = vtkMath::Dot(g, nb);
-                for (int a = 0; a < 3; ++a)
-                {
-                  g[a] -= d * nb[a];
-                }
-              }
-            }
-            const double t = vtkMath::Norm(g);
-            for (int a = 0; a < 3; ++a)
-            {
-              g[a] = t > 0.2 ? g[a] / t : 0.0; // a shock along the wall: not centred
-            }
-          }
-        }
-        std::copy(g, g + 3, &normals[3 * j]);
-        for (int k = 0; k < samples; ++k)
-        {
-          const double sk = (k - CentringSamples) * CentringReach / CentringSamples * l;
-          for (int a = 0; a < 3; ++a)
-          {
-            lines[3 * (j * samples + k) + a] = xyz[3 * j + a] + sk * normals[3 * j + a];
-          }
-        }
-      }
-    }
-    const std::vector<double> values = exchange(lines, centringUsed, cellData);
+    bool cellData = false;
+    CentringLines(cellData, lines, normals, scale);
+    const std::vector<double> values = Exchange(lines, centringUsed, cellData);
     if (!values.empty())
     {
-      std::vector<double> moved, movedWeights, shifts, widths;
-      for (std::size_t j = 0; j < n; ++j)
+      Refit(values, normals, scale);
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void FitRun::CentringLines(
+  bool& cellData, std::vector<double>& lines, std::vector<double>& normals, std::vector<double>& scale)
+{
+  // The lines along the first fit's normal through the points, CentringReach
+  // local sizes to either side, CentringSamples samples per side (none when
+  // there is no centring array or no length).
+  const char* centringArray = self->GetCentringArray();
+  vtkDataArray* array = CentringArrayOf(domain, centringArray, cellData, centringUsed);
+  const int samples = 2 * CentringSamples + 1;
+  if (!array)
+  {
+    vtkWarningWithObjectMacro(self, << "ShockCentring: the Domain has no one-component array "
+                    << (centringArray && std::string(centringArray) != vtkShockSensor::AutomaticArrayName
+                           ? std::string("'") + centringArray + "'"
+                           : std::string("of pressure or density (p, Pressure, rho, Density, ...)"))
+                    << "; the points are fitted where they are.");
+    centringUsed.clear();
+    return;
+  }
+  if (!haveSize && !haveWeight)
+  {
+    vtkWarningWithObjectMacro(self, "ShockCentring: the points have neither LocalSize nor Weight, so no length for "
+                    "the centring lines; the points are fitted where they are.");
+    centringUsed.clear();
+    return;
+  }
+  lines.resize(3 * n * samples);
+  tolerance = 1e-6 * typical; // typical > 0: the points have LocalSize or Weight
+  vtkSmartPointer<vtkStaticCellLocator> onBoundary;
+  if (boundary && boundary->GetNumberOfCells() > 0)
+  {
+    onBoundary = vtkSmartPointer<vtkStaticCellLocator>::New();
+    onBoundary->SetDataSet(boundary);
+    onBoundary->BuildLocator();
+  }
+  vtkNew<vtkIdList> near;
+  for (std::size_t j = 0; j < n; ++j)
+  {
+    const double l = haveSize ? packed[Stride * j + 4] : 1.0 / w[j];
+    scale[j] = l;
+    // The unit normal: the gradient of the signed distance.
+    double g[3], len = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      double xp[3] = { xyz[3 * j], xyz[3 * j + 1], xyz[3 * j + 2] }, xm[3] = { xp[0], xp[1], xp[2] };
+      xp[a] += 1e-3 * l;
+      xm[a] -= 1e-3 * l;
+      g[a] = (ar::SurfaceDistance(fit, xp) - ar::SurfaceDistance(fit, xm)) / (2e-3 * l);
+      len += g[a] * g[a];
+    }
+    len = std::sqrt(len);
+    for (int a = 0; a < 3 && len > 0.0 && std::isfinite(len); ++a)
+    {
+      g[a] /= len;
+    }
+    // A point on the domain's boundary (a symmetry plane, the front or
+    // back plane of a one-cell-deep mesh) centres along the boundary: a
+    // normal tilted out of it by a hair would leave half the line outside.
+    // (Any line across the shock finds the half-jump on the shock.)
+    if (onBoundary)
+    {
+      AlongBoundary(onBoundary, near, j, l, g);
+    }
+    std::copy(g, g + 3, &normals[3 * j]);
+    for (int k = 0; k < samples; ++k)
+    {
+      const double sk = (k - CentringSamples) * CentringReach / CentringSamples * l;
+      for (int a = 0; a < 3; ++a)
       {
-        double offset = 0.0;
-        const bool unit = std::abs(normals[3 * j] * normals[3 * j] + normals[3 * j + 1] * normals[3 * j + 1] +
-                                   normals[3 * j + 2] * normals[3 * j + 2] - 1.0) < 1e-6;
-        double width = -1.0;
-        const bool okj = unit && HalfJumpOffset(&values[j * samples], CentringReach, offset, &width);
-        if (!okj)
-        {
-          continue;
-        }
-        for (int a = 0; a < 3; ++a)
-        {
-          moved.push_back(xyz[3 * j + a] + offset * scale[j] * normals[3 * j + a]);
-        }
-        movedWeights.push_back(w[j]);
-        shifts.push_back(std::abs(offset));
-        if (width >= 0.0)
-        {
-          widths.push_back(width * scale[j]);
-        }
-      }
-      const std::size_t count = movedWeights.size();
-      const std::array<double, 4> firstResiduals = { residuals[0], residuals[1], residuals[2], residuals[3] };
-      ar::SurfaceFitResult refit;
-      std::string refitError;
-      if (count >= std::max<std::size_t>(ar::SurfaceTemplateMinimumPoints(fit.Template), (n + 1) / 2) &&
-        fitPoints(moved.data(), movedWeights.data(), count, refit, refitError))
-      {
-        fit = refit;
-        centred = static_cast<double>(count);
-        centringShift = Median(shifts);
-        shockThickness = widths.empty() ? 0.0 : Median(widths);
-      }
-      else
-      {
-        vtkWarningMacro(<< "ShockCentring: only " << count << " of " << n << " points found a jump of '"
-                        << centringUsed << "' within " << CentringReach
-                        << " LocalSize along the fitted surface's normal"
-                        << (refitError.empty() ? "" : " (" + refitError + ")")
-                        << "; the first fit, of the points where they are, is kept.");
-        std::copy(firstResiduals.begin(), firstResiduals.end(), residuals); // the first fit's
+        lines[3 * (j * samples + k) + a] = xyz[3 * j + a] + sk * normals[3 * j + a];
       }
     }
   }
-  this->UpdateProgress(0.4);
-  if (this->CheckAbort())
-  {
-    return 1;
-  }
+}
 
+//------------------------------------------------------------------------------
+void FitRun::AlongBoundary(vtkStaticCellLocator* onBoundary, vtkIdList* near, std::size_t j, double l, double g[3])
+{
+  // Every boundary face within 1e-3 LocalSize (a point on an edge of
+  // two planes, e.g. the outlet and the front plane, lies on both).
+  const double r = 1e-3 * l;
+  double box[6] = { xyz[3 * j] - r, xyz[3 * j] + r, xyz[3 * j + 1] - r, xyz[3 * j + 1] + r,
+    xyz[3 * j + 2] - r, xyz[3 * j + 2] + r };
+  near->Reset();
+  onBoundary->FindCellsWithinBounds(box, near);
+  near->Sort(); // the bins' order varies with the threads
+  // The directions normal to the boundary there, independent of the
+  // faces' order: the eigenvectors of sum n n^T with a weight of at
+  // least a fifth of the faces' (one for a plane, two along an edge).
+  double m[3][3] = { { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
+  int faces = 0;
+  for (vtkIdType c = 0; c < near->GetNumberOfIds(); ++c)
+  {
+    vtkCell* face = boundary->GetCell(near->GetId(c));
+    double nb[3], p0[3];
+    vtkPolygon::ComputeNormal(face->GetPoints(), nb);
+    face->GetPoints()->GetPoint(0, p0);
+    const double off = nb[0] * (xyz[3 * j] - p0[0]) + nb[1] * (xyz[3 * j + 1] - p0[1]) +
+      nb[2] * (xyz[3 * j + 2] - p0[2]);
+    if (std::abs(off) > r)
+    {
+      continue;
+    }
+    ++faces;
+    for (int u = 0; u < 3; ++u)
+    {
+      for (int v = 0; v < 3; ++v)
+      {
+        m[u][v] += nb[u] * nb[v];
+      }
+    }
+  }
+  if (faces > 0)
+  {
+    double* rows[3] = { m[0], m[1], m[2] };
+    double eigen[3], vec[3][3];
+    double* vecs[3] = { vec[0], vec[1], vec[2] };
+    vtkMath::Jacobi(rows, eigen, vecs); // eigenvectors in the columns
+    for (int k = 0; k < 3; ++k)
+    {
+      if (eigen[k] >= 0.2 * faces)
+      {
+        const double nb[3] = { vec[0][k], vec[1][k], vec[2][k] };
+        const double d = vtkMath::Dot(g, nb);
+        for (int a = 0; a < 3; ++a)
+        {
+          g[a] -= d * nb[a];
+        }
+      }
+    }
+    const double t = vtkMath::Norm(g);
+    for (int a = 0; a < 3; ++a)
+    {
+      g[a] = t > 0.2 ? g[a] / t : 0.0; // a shock along the wall: not centred
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void FitRun::Refit(
+  const std::vector<double>& values, const std::vector<double>& normals, const std::vector<double>& scale)
+{
+  // The points moved to the half-jump on their lines, fitted again; the
+  // first fit is kept when fewer than half of them found a jump.
+  const int samples = 2 * CentringSamples + 1;
+  std::vector<double> moved, movedWeights, shifts, widths;
+  for (std::size_t j = 0; j < n; ++j)
+  {
+    double offset = 0.0;
+    const bool unit = std::abs(normals[3 * j] * normals[3 * j] + normals[3 * j + 1] * normals[3 * j + 1] +
+                               normals[3 * j + 2] * normals[3 * j + 2] - 1.0) < 1e-6;
+    double width = -1.0;
+    const bool okj = unit && HalfJumpOffset(&values[j * samples], CentringReach, offset, &width);
+    if (!okj)
+    {
+      continue;
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      moved.push_back(xyz[3 * j + a] + offset * scale[j] * normals[3 * j + a]);
+    }
+    movedWeights.push_back(w[j]);
+    shifts.push_back(std::abs(offset));
+    if (width >= 0.0)
+    {
+      widths.push_back(width * scale[j]);
+    }
+  }
+  const std::size_t count = movedWeights.size();
+  const std::array<double, 4> firstResiduals = { residuals[0], residuals[1], residuals[2], residuals[3] };
+  ar::SurfaceFitResult refit;
+  std::string refitError;
+  if (count >= std::max<std::size_t>(ar::SurfaceTemplateMinimumPoints(fit.Template), (n + 1) / 2) &&
+    FitPoints(moved.data(), movedWeights.data(), count, refit, refitError))
+  {
+    fit = refit;
+    centred = static_cast<double>(count);
+    centringShift = Median(shifts);
+    shockThickness = widths.empty() ? 0.0 : Median(widths);
+  }
+  else
+  {
+    vtkWarningWithObjectMacro(self, << "ShockCentring: only " << count << " of " << n << " points found a jump of '"
+                    << centringUsed << "' within " << CentringReach
+                    << " LocalSize along the fitted surface's normal"
+                    << (refitError.empty() ? "" : " (" + refitError + ")")
+                    << "; the first fit, of the points where they are, is kept.");
+    std::copy(firstResiduals.begin(), firstResiduals.end(), residuals); // the first fit's
+  }
+}
+
+//------------------------------------------------------------------------------
+bool FitRun::Mesh()
+{
   // ---- Edge length and margin.
-  double h = this->SurfaceEdgeLength;
+  h = self->GetSurfaceEdgeLength();
   if (!(h > 0.0))
   {
     if (typical > 0.0)
@@ -980,166 +1085,170 @@ int vtkQuadricFit::ExecuteData(
       }
       h = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
             (hi[2] - lo[2]) * (hi[2] - lo[2])) / 50.0;
-      vtkWarningMacro(<< "Without LocalSize or Weight the automatic edge length is 1/50 of the "
+      vtkWarningWithObjectMacro(self, << "Without LocalSize or Weight the automatic edge length is 1/50 of the "
                          "cluster's diagonal: "
                       << h << ". Set SurfaceEdgeLength.");
     }
   }
-  const double reach = std::max(1.0, this->Margin) * h;
+  reach = std::max(1.0, self->GetMargin()) * h;
 
   // ---- Mesh the surface around the cluster.
-  ar::SurfaceMesh mesh;
   if (!ar::TessellateSurface(fit, xyz.data(), n, h, reach, mesh, error))
   {
-    return fail(error);
+    return Fail(error);
   }
   const vtkIdType nmesh = static_cast<vtkIdType>(mesh.Points.size() / 3);
   const vtkIdType ntri = static_cast<vtkIdType>(mesh.Triangles.size() / 3);
-  vtkNew<vtkPolyData> surface;
+  vtkNew<vtkDoubleArray> coords;
+  coords->SetNumberOfComponents(3);
+  coords->SetNumberOfTuples(nmesh);
+  std::copy(mesh.Points.begin(), mesh.Points.end(), coords->GetPointer(0));
+  vtkNew<vtkPoints> points;
+  points->SetData(coords);
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(ntri + 1);
+  connectivity->SetNumberOfTuples(3 * ntri);
+  for (vtkIdType t = 0; t <= ntri; ++t)
   {
-    vtkNew<vtkDoubleArray> coords;
-    coords->SetNumberOfComponents(3);
-    coords->SetNumberOfTuples(nmesh);
-    std::copy(mesh.Points.begin(), mesh.Points.end(), coords->GetPointer(0));
-    vtkNew<vtkPoints> points;
-    points->SetData(coords);
-    vtkNew<vtkIdTypeArray> offsets, connectivity;
-    offsets->SetNumberOfTuples(ntri + 1);
-    connectivity->SetNumberOfTuples(3 * ntri);
-    for (vtkIdType t = 0; t <= ntri; ++t)
-    {
-      offsets->SetValue(t, 3 * t);
-    }
-    std::copy(mesh.Triangles.begin(), mesh.Triangles.end(), connectivity->GetPointer(0));
-    vtkNew<vtkCellArray> triangles;
-    triangles->SetData(offsets, connectivity);
-    surface->SetPoints(points);
-    surface->SetPolys(triangles);
+    offsets->SetValue(t, 3 * t);
   }
-  this->UpdateProgress(0.6);
+  std::copy(mesh.Triangles.begin(), mesh.Triangles.end(), connectivity->GetPointer(0));
+  vtkNew<vtkCellArray> triangles;
+  triangles->SetData(offsets, connectivity);
+  surface->SetPoints(points);
+  surface->SetPolys(triangles);
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool FitRun::TrimToCluster()
+{
   // ---- Trim to the cluster: keep what lies within `reach` of a foot.
-  vtkSmartPointer<vtkPolyData> trimmed;
+  const vtkIdType nmesh = static_cast<vtkIdType>(mesh.Points.size() / 3);
+  vtkNew<vtkDoubleArray> feet;
+  feet->SetNumberOfComponents(3);
+  feet->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  for (std::size_t j = 0; j < n; ++j)
   {
-    vtkNew<vtkDoubleArray> feet;
-    feet->SetNumberOfComponents(3);
-    feet->SetNumberOfTuples(static_cast<vtkIdType>(n));
-    for (std::size_t j = 0; j < n; ++j)
+    ar::ProjectOntoSurface(fit, &xyz[3 * j], feet->GetPointer(3 * j));
+  }
+  vtkNew<vtkPoints> footPoints;
+  footPoints->SetData(feet);
+  vtkNew<vtkPolyData> footSet;
+  footSet->SetPoints(footPoints);
+  vtkNew<vtkStaticPointLocator> locator;
+  locator->SetDataSet(footSet);
+  locator->BuildLocator();
+  vtkNew<vtkDoubleArray> beyond;
+  beyond->SetName("DistanceBeyondMargin");
+  beyond->SetNumberOfTuples(nmesh);
+  const double* X = mesh.Points.data();
+  double* out = beyond->GetPointer(0);
+  vtkSMPTools::For(0, nmesh, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType p = b; p < e; ++p)
     {
-      ar::ProjectOntoSurface(fit, &xyz[3 * j], feet->GetPointer(3 * j));
+      double x[3] = { X[3 * p], X[3 * p + 1], X[3 * p + 2] };
+      const vtkIdType q = locator->FindClosestPoint(x);
+      const double* f = feet->GetPointer(3 * q);
+      out[p] = std::sqrt(vtkMath::Distance2BetweenPoints(x, f)) - reach;
     }
-    vtkNew<vtkPoints> footPoints;
-    footPoints->SetData(feet);
-    vtkNew<vtkPolyData> footSet;
-    footSet->SetPoints(footPoints);
-    vtkNew<vtkStaticPointLocator> locator;
-    locator->SetDataSet(footSet);
-    locator->BuildLocator();
-    vtkNew<vtkDoubleArray> beyond;
-    beyond->SetName("DistanceBeyondMargin");
-    beyond->SetNumberOfTuples(nmesh);
-    const double* X = mesh.Points.data();
-    double* out = beyond->GetPointer(0);
-    vtkSMPTools::For(0, nmesh, [&](vtkIdType b, vtkIdType e) {
+  });
+  // The cut's new points lie on chords of a curved surface: they go back
+  // onto it (the band's other points are on it already and do not move).
+  trimmed = KeepBelowZero(surface, beyond, [&](vtkPoints* band) {
+    if (fit.Template == ar::SurfaceTemplate::Plane)
+    {
+      return;
+    }
+    vtkNew<vtkDoubleArray> projected;
+    projected->SetNumberOfComponents(3);
+    projected->SetNumberOfTuples(band->GetNumberOfPoints());
+    vtkSMPTools::For(0, band->GetNumberOfPoints(), [&](vtkIdType b, vtkIdType e) {
       for (vtkIdType p = b; p < e; ++p)
       {
-        double x[3] = { X[3 * p], X[3 * p + 1], X[3 * p + 2] };
-        const vtkIdType q = locator->FindClosestPoint(x);
-        const double* f = feet->GetPointer(3 * q);
-        out[p] = std::sqrt(vtkMath::Distance2BetweenPoints(x, f)) - reach;
-      }
-    });
-    // The cut's new points lie on chords of a curved surface: they go back
-    // onto it (the band's other points are on it already and do not move).
-    trimmed = KeepBelowZero(surface, beyond, [&](vtkPoints* band) {
-      if (fit.Template == ar::SurfaceTemplate::Plane)
-      {
-        return;
-      }
-      vtkNew<vtkDoubleArray> projected;
-      projected->SetNumberOfComponents(3);
-      projected->SetNumberOfTuples(band->GetNumberOfPoints());
-      vtkSMPTools::For(0, band->GetNumberOfPoints(), [&](vtkIdType b, vtkIdType e) {
-        for (vtkIdType p = b; p < e; ++p)
-        {
-          double x[3];
-          band->GetPoint(p, x);
-          ar::ProjectOntoSurface(fit, x, projected->GetPointer(3 * p));
-        }
-      });
-      band->SetData(projected);
-    });
-  }
-  this->UpdateProgress(0.8);
-  if (this->CheckAbort())
-  {
-    return 1;
-  }
-
-  // ---- Trim to the domain.
-  if (hasDomain)
-  {
-    if (!boundary || boundary->GetNumberOfPolys() == 0)
-    {
-      return fail("The Domain input is empty or has no boundary surface (it needs 3-D cells, or "
-                  "2-D cells enclosing a volume).");
-    }
-    vtkNew<vtkImplicitPolyDataDistance> distance;
-    distance->SetInput(boundary);
-    // The boundary's faces point out of volume cells that have positive
-    // volume; check on a few cell centres which side is inside.
-    int inside = 0, outside = 0;
-    if (domain)
-    {
-      vtkNew<vtkGenericCell> cell;
-      const vtkIdType nc = domain->GetNumberOfCells();
-      const vtkIdType samples = std::min<vtkIdType>(nc, 25);
-      for (vtkIdType s = 0; s < samples; ++s)
-      {
-        const vtkIdType c = s * nc / samples;
-        domain->GetCell(c, cell);
-        if (cell->GetCellDimension() != 3)
-        {
-          continue;
-        }
-        double pc[3], x[3];
-        int sub = cell->GetParametricCenter(pc);
-        std::vector<double> weights(std::max<vtkIdType>(cell->GetNumberOfPoints(), VTK_CELL_SIZE));
-        cell->EvaluateLocation(sub, pc, x, weights.data());
-        const double v = distance->EvaluateFunction(x);
-        inside += v < 0.0 ? 1 : 0;
-        outside += v > 0.0 ? 1 : 0;
-      }
-    }
-    // Signed distances, negative inside, in double precision (vtkClipPolyData
-    // would store its clip function's values as floats, an error of ~1e-7 of
-    // the distance).
-    const double sign = outside > inside ? -1.0 : 1.0;
-    vtkSmartPointer<vtkDoubleArray> signedDistance =
-      DomainDistance(trimmed, [&](const double x[3]) {
-        double p[3] = { x[0], x[1], x[2] };
-        return sign * distance->EvaluateFunction(p);
-      });
-    // The cut is exact where the boundary is flat and inside it where the
-    // domain is convex; a point the linear cut leaves outside (near a curved
-    // or concave part of the boundary) is moved onto the boundary.
-    trimmed = KeepBelowZero(trimmed, signedDistance, [&](vtkPoints* band) {
-      for (vtkIdType p = 0; p < band->GetNumberOfPoints(); ++p)
-      {
-        double x[3], closest[3];
+        double x[3];
         band->GetPoint(p, x);
-        if (sign * distance->EvaluateFunctionAndGetClosestPoint(x, closest) > 0.0)
-        {
-          band->SetPoint(p, closest);
-        }
+        ar::ProjectOntoSurface(fit, x, projected->GetPointer(3 * p));
       }
     });
-    if (trimmed->GetNumberOfPolys() == 0)
+    band->SetData(projected);
+  });
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool FitRun::TrimToDomain()
+{
+  // ---- Trim to the domain.
+  if (!hasDomain)
+  {
+    return true;
+  }
+  if (!boundary || boundary->GetNumberOfPolys() == 0)
+  {
+    return Fail("The Domain input is empty or has no boundary surface (it needs 3-D cells, or "
+                "2-D cells enclosing a volume).");
+  }
+  vtkNew<vtkImplicitPolyDataDistance> distance;
+  distance->SetInput(boundary);
+  // The boundary's faces point out of volume cells that have positive
+  // volume; check on a few cell centres which side is inside.
+  int inside = 0, outside = 0;
+  if (domain)
+  {
+    vtkNew<vtkGenericCell> cell;
+    const vtkIdType nc = domain->GetNumberOfCells();
+    const vtkIdType samples = std::min<vtkIdType>(nc, 25);
+    for (vtkIdType s = 0; s < samples; ++s)
     {
-      return fail("The fitted surface lies entirely outside the Domain.");
+      const vtkIdType c = s * nc / samples;
+      domain->GetCell(c, cell);
+      if (cell->GetCellDimension() != 3)
+      {
+        continue;
+      }
+      double pc[3], x[3];
+      int sub = cell->GetParametricCenter(pc);
+      std::vector<double> weights(std::max<vtkIdType>(cell->GetNumberOfPoints(), VTK_CELL_SIZE));
+      cell->EvaluateLocation(sub, pc, x, weights.data());
+      const double v = distance->EvaluateFunction(x);
+      inside += v < 0.0 ? 1 : 0;
+      outside += v > 0.0 ? 1 : 0;
     }
   }
+  // Signed distances, negative inside, in double precision (vtkClipPolyData
+  // would store its clip function's values as floats, an error of ~1e-7 of
+  // the distance).
+  const double sign = outside > inside ? -1.0 : 1.0;
+  vtkSmartPointer<vtkDoubleArray> signedDistance =
+    DomainDistance(trimmed, [&](const double x[3]) {
+      double p[3] = { x[0], x[1], x[2] };
+      return sign * distance->EvaluateFunction(p);
+    });
+  // The cut is exact where the boundary is flat and inside it where the
+  // domain is convex; a point the linear cut leaves outside (near a curved
+  // or concave part of the boundary) is moved onto the boundary.
+  trimmed = KeepBelowZero(trimmed, signedDistance, [&](vtkPoints* band) {
+    for (vtkIdType p = 0; p < band->GetNumberOfPoints(); ++p)
+    {
+      double x[3], closest[3];
+      band->GetPoint(p, x);
+      if (sign * distance->EvaluateFunctionAndGetClosestPoint(x, closest) > 0.0)
+      {
+        band->SetPoint(p, closest);
+      }
+    }
+  });
+  if (trimmed->GetNumberOfPolys() == 0)
+  {
+    return Fail("The fitted surface lies entirely outside the Domain.");
+  }
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool FitRun::Output()
+{
   output->ShallowCopy(trimmed);
   output->GetPointData()->Initialize();
   output->GetCellData()->Initialize();
@@ -1153,7 +1262,7 @@ int vtkQuadricFit::ExecuteData(
   fd->AddArray(name);
   fd->AddArray(vtkARMeshKernels::FieldArray("Coefficients", fit.Coefficients.data(), static_cast<int>(fit.Coefficients.size())));
   fd->AddArray(vtkARMeshKernels::FieldArray("RMSResidual", &fit.RMSResidual, 1));
-  if (this->Template == AUTOMATIC)
+  if (self->GetTemplate() == vtkQuadricFit::AUTOMATIC)
   {
     // Each candidate's RMS residual (plane, cone, quadric, quartic; NaN: not
     // tried or not fitted).
@@ -1194,7 +1303,31 @@ int vtkQuadricFit::ExecuteData(
     fd->AddArray(vtkARMeshKernels::FieldArray("AxisDirection", fit.AxisDirection, 3));
     fd->AddArray(vtkARMeshKernels::FieldArray("HalfAngle", &fit.HalfAngleDegrees, 1));
   }
-  this->UpdateProgress(1.0);
+  return true;
+}
+}
+
+//------------------------------------------------------------------------------
+int vtkQuadricFit::ExecuteData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPointSet* input = vtkPointSet::GetData(inputVector[0], 0);
+  const bool hasDomain = this->GetNumberOfInputConnections(1) > 0;
+  vtkDataSet* domain = hasDomain ? vtkDataSet::GetData(inputVector[1], 0) : nullptr;
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  output->Initialize();
+  FitRun run(this, input, domain, hasDomain, output);
+  // Each stage but Gather on rank 0 alone; a stage that fails has said why.
+  auto proceed = [&](double progress, bool abortable) {
+    this->UpdateProgress(progress);
+    return !abortable || !this->CheckAbort();
+  };
+  if (run.Gather() && proceed(0.1, false) && run.Points() && run.Fit() && run.Centre() && proceed(0.4, true) &&
+    run.Mesh() && proceed(0.6, false) && run.TrimToCluster() && proceed(0.8, true) && run.TrimToDomain() &&
+    run.Output())
+  {
+    this->UpdateProgress(1.0);
+  }
   return 1;
 }
 

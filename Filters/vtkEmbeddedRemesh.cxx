@@ -645,20 +645,10 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   cells.AddRefillTetrahedra(result, nullptr, &tetCell, points);
   AddKeptCells(input, otherCell, outOfInput, cells);
   cells.AddRefillLayers(result, nullptr, points);
-  cells.Commit();
-  summary.Seconds.emplace_back("SecondsOutput", lap());
-  if (this->InterpolateFields)
-  {
-    InterpolateFromCavity(input, output, result, tetCell, cells.Sources());
-  }
-  summary.Seconds.emplace_back("SecondsInterpolation", lap());
-  cells.Finish(true);
-  summary.Quality = vtkEmbeddedRemeshAddQualityArrays(output, cells.Region());
-  summary.Seconds.emplace_back("SecondsQuality", lap());
+  vtkEmbeddedRemeshCompleteCells(output, cells, this->InterpolateFields,
+    [&] { InterpolateFromCavity(input, output, result, tetCell, cells.Sources()); }, lap, summary);
 
   // ---- Field data and the embedded surface.
-  summary.KeptCells = static_cast<double>(cells.NumberOfKept());
-  summary.NewCells = static_cast<double>(cells.NumberOfNew());
   summary.InputNodes = static_cast<double>(nPoints);
   summary.OutputNodes = static_cast<double>(nOut);
   summary.NewNodes = static_cast<double>(nOut - keptPoints);

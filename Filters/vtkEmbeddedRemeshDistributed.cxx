@@ -681,20 +681,10 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   }
   cells.AddRefillTetrahedra(result, &op.OutOfResult, nullptr, points);
   cells.AddRefillLayers(result, &op.OutOfResult, points);
-  cells.Commit();
-  summary.Seconds.emplace_back("SecondsOutput", lap());
-  if (this->InterpolateFields)
-  {
-    InterpolateDistributed(input, G, output, op, cells.Sources(), rank);
-  }
-  summary.Seconds.emplace_back("SecondsInterpolation", lap());
-  cells.Finish(true);
-  summary.Quality = vtkEmbeddedRemeshAddQualityArrays(output, cells.Region());
-  summary.Seconds.emplace_back("SecondsQuality", lap());
+  vtkEmbeddedRemeshCompleteCells(output, cells, this->InterpolateFields,
+    [&] { InterpolateDistributed(input, G, output, op, cells.Sources(), rank); }, lap, summary);
 
   // ---- Field data, equal on every rank and to the serial run's.
-  summary.KeptCells = static_cast<double>(cells.NumberOfKept());
-  summary.NewCells = static_cast<double>(cells.NumberOfNew());
   summary.InputNodes = OwnedInputNodes(input);
   summary.NewNodes = op.NewNodes;
   summary.AddRefill(result); // rank 0's refill; nothing elsewhere

@@ -1119,3 +1119,22 @@ void vtkEmbeddedRemeshSetEmbedded(vtkPolyData* embedded, vtkPoints* points, cons
   embedded->SetPoints(points);
   embedded->SetPolys(faces);
 }
+
+//------------------------------------------------------------------------------
+void vtkEmbeddedRemeshCompleteCells(vtkUnstructuredGrid* output, vtkEmbeddedRemeshCells& cells,
+  bool interpolateFields, const std::function<void()>& interpolate, vtkEmbeddedRemeshLap& lap,
+  vtkEmbeddedRemeshSummary& summary)
+{
+  cells.Commit();
+  summary.Seconds.emplace_back("SecondsOutput", lap());
+  if (interpolateFields)
+  {
+    interpolate();
+  }
+  summary.Seconds.emplace_back("SecondsInterpolation", lap());
+  cells.Finish(true);
+  summary.Quality = vtkEmbeddedRemeshAddQualityArrays(output, cells.Region());
+  summary.Seconds.emplace_back("SecondsQuality", lap());
+  summary.KeptCells = static_cast<double>(cells.NumberOfKept());
+  summary.NewCells = static_cast<double>(cells.NumberOfNew());
+}

@@ -30,6 +30,7 @@
 #include <chrono>
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -324,5 +325,13 @@ public:
 private:
   std::chrono::steady_clock::time_point Start = std::chrono::steady_clock::now();
 };
+
+/// The 3-D drivers' last stages, in their order: the cells committed
+/// (SecondsOutput), the fields by `interpolate` when `interpolateFields`
+/// (SecondsInterpolation), Region, Layer, LayerSide and the quality arrays
+/// (SecondsQuality); the kept and new cell counts into `summary`.
+void vtkEmbeddedRemeshCompleteCells(vtkUnstructuredGrid* output, vtkEmbeddedRemeshCells& cells,
+  bool interpolateFields, const std::function<void()>& interpolate, vtkEmbeddedRemeshLap& lap,
+  vtkEmbeddedRemeshSummary& summary);
 
 #endif

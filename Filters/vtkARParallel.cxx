@@ -105,6 +105,40 @@ vtkSmartPointer<vtkPolyData> BoundarySurface(vtkDataSet* domain)
   surface->ShallowCopy(triangles->GetOutput());
   surface->GetPointData()->Initialize();
   surface->GetCellData()->Initialize();
+  // The triangles in a canonical order, each from its smallest point id
+  // (its orientation kept), sorted: vtkGeometryFilter gathers its threads'
+  // faces in the order the threads come, which varied from run to run on a
+  // piece with ghost cells, and the sums over the faces near a point
+  // (QuadricFit's centring along the boundary) then differed in the last
+  // bit, and the fitted surface and the mesh after it with them.
+  vtkCellArray* polys = surface->GetPolys();
+  std::vector<std::array<vtkIdType, 3>> tri;
+  tri.reserve(static_cast<std::size_t>(polys->GetNumberOfCells()));
+  vtkIdType npts;
+  const vtkIdType* ids;
+  for (polys->InitTraversal(); polys->GetNextCell(npts, ids);)
+  {
+    if (npts == 3)
+    {
+      const int k = ids[0] <= ids[1] && ids[0] <= ids[2] ? 0 : ids[1] <= ids[2] ? 1 : 2;
+      tri.push_back({ ids[k], ids[(k + 1) % 3], ids[(k + 2) % 3] });
+    }
+  }
+  std::sort(tri.begin(), tri.end());
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(static_cast<vtkIdType>(tri.size() + 1));
+  connectivity->SetNumberOfValues(static_cast<vtkIdType>(3 * tri.size()));
+  for (std::size_t t = 0; t <= tri.size(); ++t)
+  {
+    offsets->SetValue(static_cast<vtkIdType>(t), static_cast<vtkIdType>(3 * t));
+  }
+  for (std::size_t t = 0; t < tri.size(); ++t)
+  {
+    std::copy(tri[t].begin(), tri[t].end(), connectivity->GetPointer(static_cast<vtkIdType>(3 * t)));
+  }
+  vtkNew<vtkCellArray> sorted;
+  sorted->SetData(offsets, connectivity);
+  surface->SetPolys(sorted);
   return surface;
 }
 }

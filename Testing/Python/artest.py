@@ -142,6 +142,36 @@ def load(path):
     return dsa.WrapDataObject(r.GetOutput())
 
 
+def contents(ds):
+    """name -> bytes of a dataset's points, cells (connectivity, offsets,
+    types; a polydata's polygons) and every point, cell and field array but
+    the Seconds* timings."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    g = ds.VTKObject if hasattr(ds, "VTKObject") else ds
+    out = {}
+    if g.GetPoints() is not None:
+        out["points"] = vtk_to_numpy(g.GetPoints().GetData()).tobytes()
+    cells = g.GetCells() if g.IsA("vtkUnstructuredGrid") else g.GetPolys() if g.IsA("vtkPolyData") else None
+    if cells is not None:
+        out["connectivity"] = vtk_to_numpy(cells.GetConnectivityArray()).astype(np.int64).tobytes()
+        out["offsets"] = vtk_to_numpy(cells.GetOffsetsArray()).astype(np.int64).tobytes()
+    if g.IsA("vtkUnstructuredGrid") and g.GetCellTypesArray() is not None:
+        out["types"] = vtk_to_numpy(g.GetCellTypesArray()).tobytes()
+    for kind, data in (("point ", g.GetPointData()), ("cell ", g.GetCellData()), ("field ", g.GetFieldData())):
+        for i in range(data.GetNumberOfArrays()):
+            a = data.GetArray(i)
+            if a is not None and not (kind == "field " and a.GetName().startswith("Seconds")):
+                out[kind + a.GetName()] = vtk_to_numpy(a).tobytes()
+    return out
+
+
+def differences(a, b):
+    """What differs between two datasets, bit for bit (contents): a list of
+    names, empty when they are equal."""
+    ca, cb = contents(a), contents(b)
+    return sorted(k for k in set(ca) | set(cb) if ca.get(k) != cb.get(k))
+
+
 def fit_plane(points, weights=None):
     """Least-squares plane through points: (unit normal, centroid)."""
     p = np.asarray(points, dtype=float)

@@ -206,19 +206,74 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     vtkNew<vtkCellLocator> locator;
     locator->SetDataSet(band);
     locator->BuildLocator();
+    // A sample on a face (or an edge, a corner) lies in several cells, which
+    // interpolate it alike up to round-off. It takes the one cell that comes
+    // first by its corners' coordinates, whatever the cells' numbering, and
+    // is answered by the rank that owns that cell (with one ghost level the
+    // owner holds every cell about it): so a partition, or the order of the
+    // band's cells, changes no bit of the value.
+    vtkUnsignedCharArray* ghosts = domain->GetCellGhostArray();
     const double tol2 = tolerance * tolerance;
     vtkNew<vtkGenericCell> cell;
+    vtkNew<vtkIdList> candidates;
     std::vector<double> wts(VTK_CELL_SIZE);
-    double pc[3];
-    int sub = 0;
-    for (vtkIdType i = 0; i < m; ++i)
+    std::vector<std::pair<vtkIdType, int>> accepted; // (band cell, 1 inside / 0 within the tolerance)
+    auto cornerKey = [&](vtkIdType c) {
+      band->GetCell(c, cell);
+      std::vector<std::array<double, 3>> key(static_cast<std::size_t>(cell->GetNumberOfPoints()));
+      for (vtkIdType k = 0; k < cell->GetNumberOfPoints(); ++k)
+      {
+        cell->GetPoints()->GetPoint(k, key[k].data());
+      }
+      std::sort(key.begin(), key.end());
+      return key;
+    };
+    for (vtkIdType i = 0; i < m && values; ++i)
     {
       double x[3] = { points[3 * i], points[3 * i + 1], points[3 * i + 2] };
-      const vtkIdType c = values ? locator->FindCell(x, tol2, cell, sub, pc, wts.data()) : -1;
-      if (c < 0)
+      double box[6] = { x[0] - tolerance, x[0] + tolerance, x[1] - tolerance, x[1] + tolerance, x[2] - tolerance,
+        x[2] + tolerance };
+      candidates->Reset();
+      locator->FindCellsWithinBounds(box, candidates);
+      accepted.clear();
+      for (vtkIdType k = 0; k < candidates->GetNumberOfIds(); ++k)
+      {
+        const vtkIdType c = candidates->GetId(k);
+        band->GetCell(c, cell);
+        double closest[3], pc[3], d2;
+        int sub;
+        const int inside = cell->EvaluatePosition(x, closest, sub, pc, d2, wts.data());
+        if (inside == 1 || (inside == 0 && d2 <= tol2))
+        {
+          accepted.emplace_back(c, inside);
+        }
+      }
+      if (accepted.empty())
       {
         continue;
       }
+      std::pair<vtkIdType, int> chosen = accepted[0];
+      if (accepted.size() > 1)
+      {
+        auto best = cornerKey(chosen.first);
+        for (std::size_t k = 1; k < accepted.size(); ++k)
+        {
+          const auto key = cornerKey(accepted[k].first);
+          if (accepted[k].second > chosen.second || (accepted[k].second == chosen.second && key < best))
+          {
+            chosen = accepted[k];
+            best = key;
+          }
+        }
+      }
+      if (ghosts && (ghosts->GetValue(cellIds->GetId(chosen.first)) & vtkDataSetAttributes::DUPLICATECELL))
+      {
+        continue; // its owner answers
+      }
+      band->GetCell(chosen.first, cell);
+      double closest[3], pc[3], d2;
+      int sub;
+      cell->EvaluatePosition(x, closest, sub, pc, d2, wts.data());
       double v = 0.0;
       for (vtkIdType k = 0; k < cell->GetNumberOfPoints(); ++k)
       {

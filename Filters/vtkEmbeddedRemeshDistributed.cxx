@@ -43,7 +43,6 @@
 namespace
 {
 using Coord = std::array<double, 3>;
-constexpr int TetFace[4][3] = { { 1, 2, 3 }, { 0, 3, 2 }, { 0, 1, 3 }, { 0, 2, 1 } };
 
 /// This rank's piece as the core's mesh: its tetrahedra, owned and ghost
 /// (the ghosts complete l_v at the owned cells' nodes).
@@ -113,7 +112,7 @@ std::vector<double> DomainBoundary(const Piece& piece)
       std::array<std::int64_t, 3> key;
       for (int k = 0; k < 3; ++k)
       {
-        key[k] = V.Tetrahedra[4 * t + TetFace[f][k]];
+        key[k] = V.Tetrahedra[4 * t + ar::TetFaceVertex[f][k]];
       }
       std::sort(key.begin(), key.end());
       auto& e = faces[key];
@@ -130,7 +129,7 @@ std::vector<double> DomainBoundary(const Piece& piece)
     {
       for (int k = 0; k < 3; ++k)
       {
-        const double* x = &V.Points[3 * V.Tetrahedra[4 * t + TetFace[f][k]]];
+        const double* x = &V.Points[3 * V.Tetrahedra[4 * t + ar::TetFaceVertex[f][k]]];
         mine.insert(mine.end(), x, x + 3);
       }
     }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARCavity.h"
+#include "ARCGALTypes.h"
 
 #include "ARMeshSize.h"
 #include "ARUnionFind.h"
@@ -9,14 +10,11 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Fuzzy_sphere.h>
 #include <CGAL/Kd_tree.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Search_traits_3.h>
 #include <CGAL/Search_traits_adapter.h>
-#include <CGAL/Surface_mesh.h>
 #include <CGAL/property_map.h>
 
 #include <boost/tuple/tuple.hpp>
@@ -34,8 +32,8 @@ namespace ar
 {
 namespace
 {
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
+using cgal::Kernel;
+using cgal::Point;
 using Segment = Kernel::Segment_3;
 using Ray = Kernel::Ray_3;
 using Triangle = Kernel::Triangle_3;
@@ -48,7 +46,6 @@ using SearchTraits = CGAL::Search_traits_adapter<IndexedPoint,
 using KdTree = CGAL::Kd_tree<SearchTraits>;
 using Sphere = CGAL::Fuzzy_sphere<SearchTraits>;
 
-constexpr int FaceVertex[4][3] = { { 1, 2, 3 }, { 0, 3, 2 }, { 0, 1, 3 }, { 0, 2, 1 } };
 
 Point P(const double* x)
 {
@@ -572,7 +569,7 @@ bool CavityRun::BuildAdjacency()
       if (neighbor[4 * t + f] < 0)
       {
         const std::int64_t* v = &V.Tetrahedra[4 * t];
-        const std::int64_t a = v[FaceVertex[f][0]], b = v[FaceVertex[f][1]], c = v[FaceVertex[f][2]];
+        const std::int64_t a = v[TetFaceVertex[f][0]], b = v[TetFaceVertex[f][1]], c = v[TetFaceVertex[f][2]];
         boundary.emplace_back(P(&V.Points[3 * a]), P(&V.Points[3 * b]), P(&V.Points[3 * c]));
       }
     }
@@ -772,7 +769,7 @@ bool CavityRun::CheckSelfIntersection()
     {
       pts.push_back(P(&sPoints[3 * i]));
     }
-    std::vector<std::array<std::size_t, 3>> faces(sTris.size() / 3);
+    cgal::Soup faces(sTris.size() / 3);
     for (std::size_t t = 0; t < faces.size(); ++t)
     {
       for (int k = 0; k < 3; ++k)
@@ -780,10 +777,9 @@ bool CavityRun::CheckSelfIntersection()
         faces[t][k] = static_cast<std::size_t>(sTris[3 * t + k]);
       }
     }
-    if (PMP::is_polygon_soup_a_polygon_mesh(faces))
+    cgal::Mesh mesh;
+    if (cgal::SoupToMesh(pts, faces, mesh))
     {
-      CGAL::Surface_mesh<Point> mesh;
-      PMP::polygon_soup_to_polygon_mesh(pts, faces, mesh);
       if (PMP::does_self_intersect(mesh))
       {
         error = "the feature surface intersects itself.";
@@ -934,7 +930,7 @@ void CavityRun::BuildCavityBoundary()
       }
       for (int k = 0; k < 3; ++k)
       {
-        const std::int64_t v = V.Tetrahedra[4 * t + FaceVertex[f][k]];
+        const std::int64_t v = V.Tetrahedra[4 * t + TetFaceVertex[f][k]];
         if (plcIndex[v] < 0)
         {
           plcIndex[v] = static_cast<std::int64_t>(nodeSize.size());

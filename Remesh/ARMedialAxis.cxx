@@ -1,15 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARMedialAxis.h"
+#include "ARCGALTypes.h"
 #include "ARUnionFind.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Delaunay_triangulation_3.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Side_of_triangle_mesh.h>
-#include <CGAL/Surface_mesh.h>
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
@@ -27,14 +25,14 @@ namespace ar
 {
 namespace
 {
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
+using cgal::Kernel;
+using cgal::Point;
 using VertexBase = CGAL::Triangulation_vertex_base_with_info_3<std::int64_t, Kernel>;
 using CellBase = CGAL::Delaunay_triangulation_cell_base_3<Kernel>;
 using CellBaseInfo = CGAL::Triangulation_cell_base_with_info_3<std::int64_t, Kernel, CellBase>;
 using Tds = CGAL::Triangulation_data_structure_3<VertexBase, CellBaseInfo>;
 using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
-using Mesh = CGAL::Surface_mesh<Point>;
+using cgal::Mesh;
 
 constexpr double Pi = 3.14159265358979323846;
 
@@ -180,7 +178,7 @@ public:
       }
       points.emplace_back(p[0], p[1], p[2]);
     }
-    std::vector<std::array<std::size_t, 3>> faces(domain.Triangles.size() / 3);
+    cgal::Soup faces(domain.Triangles.size() / 3);
     for (std::size_t t = 0; t < faces.size(); ++t)
     {
       for (int k = 0; k < 3; ++k)
@@ -199,12 +197,11 @@ public:
       error = "the domain boundary has no triangles.";
       return false;
     }
-    if (!PMP::is_polygon_soup_a_polygon_mesh(faces))
+    if (!cgal::SoupToMesh(points, faces, this->Surface))
     {
       error = "the domain boundary is not a manifold, consistently oriented triangle mesh.";
       return false;
     }
-    PMP::polygon_soup_to_polygon_mesh(points, faces, this->Surface);
     if (!CGAL::is_closed(this->Surface))
     {
       error = "the domain boundary is not closed (it has border edges).";

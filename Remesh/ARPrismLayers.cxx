@@ -1,16 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARPrismLayers.h"
+#include "ARCGALTypes.h"
 #include "ARCellQuality.h"
 #include "ARUnionFind.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -28,8 +26,8 @@ namespace ar
 {
 namespace
 {
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
+using cgal::Kernel;
+using cgal::Point;
 using Ray = Kernel::Ray_3;
 using Triangle = Kernel::Triangle_3;
 using TriangleIterator = std::vector<Triangle>::const_iterator;
@@ -1223,7 +1221,7 @@ bool LayerBuild::CheckOuterSurface()
     namespace PMP = CGAL::Polygon_mesh_processing;
     std::vector<std::int64_t> soupIndex(out.Points.size() / 3, -1);
     std::vector<Point> soupPoints;
-    std::vector<std::array<std::size_t, 3>> soup(nOuter);
+    cgal::Soup soup(nOuter);
     for (std::size_t t = 0; t < nOuter; ++t)
     {
       for (int k = 0; k < 3; ++k)
@@ -1237,19 +1235,18 @@ bool LayerBuild::CheckOuterSurface()
         soup[t][k] = static_cast<std::size_t>(soupIndex[i]);
       }
     }
-    if (!PMP::is_polygon_soup_a_polygon_mesh(soup))
+    cgal::Mesh mesh;
+    if (!cgal::SoupToMesh(soupPoints, soup, mesh))
     {
       error = "internal error: the outer surface of the prism layers is not a closed manifold.";
       return false;
     }
-    CGAL::Surface_mesh<Point> mesh;
-    PMP::polygon_soup_to_polygon_mesh(soupPoints, soup, mesh);
     if (mesh.number_of_faces() != nOuter)
     {
       error = "internal error: the outer surface of the prism layers lost faces.";
       return false;
     }
-    std::vector<std::pair<CGAL::Surface_mesh<Point>::Face_index, CGAL::Surface_mesh<Point>::Face_index>> pairs;
+    std::vector<std::pair<cgal::Mesh::Face_index, cgal::Mesh::Face_index>> pairs;
     PMP::self_intersections(faces(mesh), mesh, std::back_inserter(pairs));
     for (const auto& pr : pairs)
     {

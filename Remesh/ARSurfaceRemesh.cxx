@@ -1,15 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARSurfaceRemesh.h"
+#include "ARCGALTypes.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <array>
 #include <cmath>
@@ -19,9 +17,9 @@ namespace ar
 {
 namespace
 {
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
-using Mesh = CGAL::Surface_mesh<Point>;
+using cgal::Kernel;
+using cgal::Mesh;
+using cgal::Point;
 }
 
 bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
@@ -69,14 +67,13 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
     return false;
   }
   PMP::orient_polygon_soup(pts, faces); // may duplicate points at non-manifold vertices
-  if (!PMP::is_polygon_soup_a_polygon_mesh(faces))
+  Mesh mesh;
+  if (!cgal::SoupToMesh(pts, faces, mesh))
   {
     error = "the surface is not an orientable manifold (non-manifold edges); remesh it by hand or "
             "remove the offending triangles.";
     return false;
   }
-  Mesh mesh;
-  PMP::polygon_soup_to_polygon_mesh(pts, faces, mesh);
   std::vector<Mesh::Edge_index> border;
   for (Mesh::Halfedge_index h : mesh.halfedges())
   {

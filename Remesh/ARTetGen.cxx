@@ -1,12 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARTetGen.h"
+#include "ARCGALTypes.h"
 
 #include "ARTetGeometry.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <tetgen.h>
 
@@ -95,14 +93,13 @@ bool ValidateSurface(const double* xyz, std::size_t nPoints, const std::int64_t*
 
   // Orientation and self-intersection, with CGAL (exact predicates): TetGen
   // would throw, or corrupt its heap, on such input.
-  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-  std::vector<Kernel::Point_3> points;
+  std::vector<cgal::Point> points;
   points.reserve(nPoints);
   for (std::size_t i = 0; i < nPoints; ++i)
   {
     points.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
   }
-  std::vector<std::array<std::size_t, 3>> faces(nTriangles);
+  cgal::Soup faces(nTriangles);
   for (std::size_t t = 0; t < nTriangles; ++t)
   {
     for (int k = 0; k < 3; ++k)
@@ -110,15 +107,13 @@ bool ValidateSurface(const double* xyz, std::size_t nPoints, const std::int64_t*
       faces[t][k] = static_cast<std::size_t>(tri[3 * t + k]);
     }
   }
-  namespace PMP = CGAL::Polygon_mesh_processing;
-  if (!PMP::is_polygon_soup_a_polygon_mesh(faces))
+  cgal::Mesh mesh;
+  if (!cgal::SoupToMesh(points, faces, mesh))
   {
     error = "the surface triangles are not consistently oriented (or a vertex is non-manifold).";
     return false;
   }
-  CGAL::Surface_mesh<Kernel::Point_3> mesh;
-  PMP::polygon_soup_to_polygon_mesh(points, faces, mesh);
-  if (PMP::does_self_intersect(mesh))
+  if (cgal::PMP::does_self_intersect(mesh))
   {
     error = "the surface intersects itself.";
     return false;

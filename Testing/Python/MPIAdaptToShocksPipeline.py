@@ -1,7 +1,10 @@
 """pvbatch script: AdaptToShocks with its defaults, serial or distributed.
 
-    pvbatch MPIAdaptToShocksPipeline.py <mesh.vtu> <output>
-    mpiexec -np 2 pvbatch --symmetric MPIAdaptToShocksPipeline.py <pieces.pvtu> <output>
+    pvbatch MPIAdaptToShocksPipeline.py <mesh.vtu> <output> [Prisms]
+    mpiexec -np 2 pvbatch --symmetric MPIAdaptToShocksPipeline.py <pieces.pvtu> <output> [Prisms]
+
+With "Prisms", AdaptToShocks makes prism layers (LayerType 'Prisms'),
+otherwise it runs with all its defaults.
 
 Distributed, the partitioned reader's pieces get one ghost level
 (GhostCellsGenerator), as ParaView gives a distributed solution to a filter.
@@ -26,7 +29,7 @@ if data.endswith(".pvtu"):
     mesh = GhostCellsGenerator(Input=XMLPartitionedUnstructuredGridReader(FileName=[data]))
 else:
     mesh = XMLUnstructuredGridReader(FileName=[data])
-adapt = AdaptToShocks(Input=mesh)
+adapt = AdaptToShocks(Input=mesh, **({"LayerType": "Prisms"} if sys.argv[3:] == ["Prisms"] else {}))
 start = time.time()
 adapt.UpdatePipeline()
 seconds = time.time() - start

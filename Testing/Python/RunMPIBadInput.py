@@ -37,7 +37,9 @@ rc, _ = artest.run([pvbatch, os.path.join(here, "MPIEmbeddedRemeshPipeline.py"),
 check(rc == 0 and os.path.exists(serial + ".plane.vtp"), "the plane fitted serially")
 rc, text = artest.run([mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "2", pvbatch, "--symmetric",
                        os.path.join(here, "MPIBadInputPipeline.py"), pieces, serial + ".plane.vtp"])
-check(rc == 0, "mpiexec -np 2 pvbatch ends normally (exit %d)" % rc)
+sanitized = os.environ.get("AR_SANITIZE") == "1"
+if not sanitized:
+    check(rc == 0, "mpiexec -np 2 pvbatch ends normally (exit %d)" % rc)
 results = {}
 for m in re.finditer(r"RESULT (\w+) (\d) (\d+) (\d+) (\d) (\d+) ([^\n]*)", text):
     results.setdefault(m.group(1), {})[int(m.group(2))] = (int(m.group(3)), int(m.group(4)), m.group(7).strip(),
@@ -69,11 +71,20 @@ check(sorted(ranks) == [0, 1] and all(r[0] == r[1] and r[0] > 0 and r[3] == 0 fo
 # learns that another rank failed, both pass their pieces through (before,
 # the exception left rank 0's driver and rank 1 waited in the broadcast).
 ranks = results.get("memory", {})
-check(sorted(ranks) == [0, 1] and "ran out of memory (std::bad_alloc)" in ranks[0][2]
-      and "failed on another rank" in ranks[1][2],
-      "out of memory on rank 0: rank 0 says so, rank 1 because another rank failed (%s)"
-      % {k: v[2][:100] for k, v in ranks.items()})
-check(sorted(ranks) == [0, 1] and all(r[0] == r[1] and r[0] > 0 and r[3] == 0 for r in ranks.values()),
-      "out of memory on rank 0: each rank's piece passes through, nothing added (%s)"
-      % [(r[0], r[1], r[3], r[4]) for r in ranks.values()])
+if sanitized:
+    # The AR_SANITIZE build (README: "Sanitizer build"): AddressSanitizer's
+    # operator new never throws std::bad_alloc; the allocation past rank 0's
+    # limit ends rank 0 (as PyBadInput checks in one process), so mpiexec
+    # fails and the case reports nothing. The catch is the normal build's check.
+    check(rc != 0 and not ranks and "non-zero status" in text,
+          "out of memory on rank 0, sanitizer build: the allocation past the limit ends rank 0 and mpiexec says "
+          "so (exit %d, %d results)" % (rc, len(ranks)))
+else:
+    check(sorted(ranks) == [0, 1] and "ran out of memory (std::bad_alloc)" in ranks[0][2]
+          and "failed on another rank" in ranks[1][2],
+          "out of memory on rank 0: rank 0 says so, rank 1 because another rank failed (%s)"
+          % {k: v[2][:100] for k, v in ranks.items()})
+    check(sorted(ranks) == [0, 1] and all(r[0] == r[1] and r[0] > 0 and r[3] == 0 for r in ranks.values()),
+          "out of memory on rank 0: each rank's piece passes through, nothing added (%s)"
+          % [(r[0], r[1], r[3], r[4]) for r in ranks.values()])
 artest.finish()

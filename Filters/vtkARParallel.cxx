@@ -320,22 +320,12 @@ void vtkARParallel::BroadcastFieldDataFromRoot(vtkFieldData* fd)
 }
 
 //------------------------------------------------------------------------------
-vtkSmartPointer<vtkUnstructuredGrid> vtkARParallel::GatherVolumeOnRoot(vtkUnstructuredGrid* piece)
+vtkSmartPointer<vtkUnstructuredGrid> vtkARParallel::MergeOnRoot(vtkUnstructuredGrid* local)
 {
-  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
-  vtkNew<vtkUnstructuredGrid> owned;
-  owned->DeepCopy(piece);
-  owned->RemoveGhostCells();
-  owned->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
-  owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  if (NumberOfRanks() <= 1 || !ctrl)
-  {
-    whole->ShallowCopy(owned);
-    return whole;
-  }
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
   std::vector<vtkSmartPointer<vtkDataObject>> parts;
-  ctrl->Gather(owned, parts, 0);
+  ctrl->Gather(local, parts, 0);
   if (ctrl->GetLocalProcessId() == 0)
   {
     vtkNew<vtkAppendFilter> merge;
@@ -351,6 +341,27 @@ vtkSmartPointer<vtkUnstructuredGrid> vtkARParallel::GatherVolumeOnRoot(vtkUnstru
     }
     merge->Update();
     whole->ShallowCopy(merge->GetOutput());
+  }
+  return whole;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> vtkARParallel::GatherVolumeOnRoot(vtkUnstructuredGrid* piece)
+{
+  vtkMultiProcessController* ctrl = vtkMultiProcessController::GetGlobalController();
+  vtkNew<vtkUnstructuredGrid> owned;
+  owned->DeepCopy(piece);
+  owned->RemoveGhostCells();
+  owned->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  if (NumberOfRanks() <= 1 || !ctrl)
+  {
+    whole->ShallowCopy(owned);
+    return whole;
+  }
+  whole = MergeOnRoot(owned);
+  if (ctrl->GetLocalProcessId() == 0)
+  {
     whole->GetFieldData()->ShallowCopy(piece->GetFieldData());
   }
   return whole;

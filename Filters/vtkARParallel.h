@@ -66,6 +66,10 @@ public:
   /// only), with rank 0's field data; an empty mesh on the other ranks. In
   /// serial, the piece's owned cells. Collective.
   static vtkSmartPointer<vtkUnstructuredGrid> GatherVolumeOnRoot(vtkUnstructuredGrid* piece);
+  /// Every rank's `local` grid on rank 0, in rank order, coincident points
+  /// merged (vtkAppendFilter, tolerance 0); an empty grid elsewhere. Under
+  /// MPI only (a collective call).
+  static vtkSmartPointer<vtkUnstructuredGrid> MergeOnRoot(vtkUnstructuredGrid* local);
 };
 
 #endif

@@ -223,26 +223,7 @@ vtkSmartPointer<vtkUnstructuredGrid> GatherSelected(vtkUnstructuredGrid* input, 
   part->ShallowCopy(extract->GetOutput());
   part->GetPointData()->RemoveArray("vtkOriginalPointIds");
   part->GetCellData()->RemoveArray("vtkOriginalCellIds");
-  std::vector<vtkSmartPointer<vtkDataObject>> parts;
-  vtkMultiProcessController::GetGlobalController()->Gather(part, parts, 0);
-  auto G = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  if (rank == 0)
-  {
-    vtkNew<vtkAppendFilter> merge;
-    merge->MergePointsOn();
-    merge->SetTolerance(0.0);
-    for (auto& p : parts)
-    {
-      auto* grid = vtkUnstructuredGrid::SafeDownCast(p);
-      if (grid && grid->GetNumberOfCells() > 0)
-      {
-        merge->AddInputData(grid);
-      }
-    }
-    merge->Update();
-    G->ShallowCopy(merge->GetOutput());
-  }
-  return G;
+  return vtkARParallel::MergeOnRoot(part);
 }
 
 /// The output's points: this rank's kept owned nodes (input order; rank 0

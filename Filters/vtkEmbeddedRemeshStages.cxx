@@ -763,21 +763,11 @@ vtkIdType vtkEmbeddedRemeshCells::AppendCells(vtkIdType count, vtkIdType points)
   // are the caller's to set but for one cell. Returns the first's index.
   const vtkIdType first = this->Types->GetNumberOfValues();
   const vtkIdType firstPoint = this->Connectivity->GetNumberOfValues();
-  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{ this->Types, this->Offsets, this->RegionArray,
-         this->LayerArray, this->SideArray })
-  {
-    switch (a->GetDataType())
-    {
-      case VTK_UNSIGNED_CHAR:
-        Extend(static_cast<vtkUnsignedCharArray*>(a), count);
-        break;
-      case VTK_INT:
-        Extend(static_cast<vtkIntArray*>(a), count);
-        break;
-      default:
-        Extend(static_cast<vtkIdTypeArray*>(a), count);
-    }
-  }
+  Extend(this->Types.Get(), count);
+  Extend(this->Offsets.Get(), count);
+  Extend(this->RegionArray.Get(), count);
+  Extend(this->LayerArray.Get(), count);
+  Extend(this->SideArray.Get(), count);
   Extend(this->Connectivity.Get(), points);
   if (count == 1)
   {
@@ -901,15 +891,10 @@ void vtkEmbeddedRemeshCells::Commit()
         this->Types->GetValue(c), this->Offsets->GetValue(c + 1) - o, this->Connectivity->GetPointer(o));
     }
   }
-  this->Committed = true;
 }
 
 void vtkEmbeddedRemeshCells::Finish(bool layerArrays)
 {
-  if (!this->Committed)
-  {
-    this->Commit();
-  }
   this->Output->GetCellData()->AddArray(this->RegionArray);
   if (layerArrays)
   {

@@ -225,7 +225,8 @@ public:
   /// Makes the cells added so far the output's cells, and Region() ready.
   /// Once, after the last Add and before anything reads the output's cells.
   void Commit();
-  /// Adds the Region array, and Layer and LayerSide when `layerArrays`.
+  /// Adds the Region array, and Layer and LayerSide when `layerArrays`;
+  /// after Commit.
   void Finish(bool layerArrays);
   const std::vector<vtkIdType>& Sources() const { return this->Source; }
   vtkIdType NumberOfNew() const { return this->NewCount; }
@@ -245,7 +246,6 @@ private:
   std::vector<std::pair<vtkIdType, vtkSmartPointer<vtkIdList>>> Polyhedra; // (cell, face stream)
   vtkNew<vtkIntArray> RegionArray, LayerArray, SideArray;
   vtkIdType NewCount = 0;
-  bool Committed = false;
 };
 
 /// Where the new points and cells of an output take their fields from: each

@@ -34,6 +34,7 @@
 #include "vtkStaticCleanPolyData.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkStringArray.h"
+#include "vtkTetra.h"
 #include "vtkTriangleFilter.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkCellDataToPointData.h"
@@ -206,19 +207,121 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     vtkNew<vtkCellLocator> locator;
     locator->SetDataSet(band);
     locator->BuildLocator();
+    // A sample on a face (or an edge, a corner) lies in several cells, which
+    // interpolate it alike up to round-off. It takes the one cell that comes
+    // first by its corners' coordinates, whatever the cells' numbering, and
+    // is answered by the rank that owns that cell (with one ghost level the
+    // owner holds every cell about it): so a partition, or the order of the
+    // band's cells, changes no bit of the value. The locator's cell decides
+    // alone where the sample is well inside it (every weight above 0.01);
+    // otherwise the cells about its corners are the candidates.
+    vtkUnsignedCharArray* ghosts = domain->GetCellGhostArray();
     const double tol2 = tolerance * tolerance;
+    band->BuildLinks();
     vtkNew<vtkGenericCell> cell;
     std::vector<double> wts(VTK_CELL_SIZE);
-    double pc[3];
-    int sub = 0;
-    for (vtkIdType i = 0; i < m; ++i)
+    std::vector<vtkIdType> accepted, candidates;
+    vtkNew<vtkIdList> corners;
+    auto cornerKey = [&](vtkIdType c) {
+      band->GetCellPoints(c, corners);
+      std::vector<std::array<double, 3>> key(static_cast<std::size_t>(corners->GetNumberOfIds()));
+      for (vtkIdType k = 0; k < corners->GetNumberOfIds(); ++k)
+      {
+        band->GetPoint(corners->GetId(k), key[k].data());
+      }
+      std::sort(key.begin(), key.end());
+      return key;
+    };
+    // Whether cell c holds x: a tetrahedron by its barycentric coordinates
+    // (closed, to round-off), another cell by EvaluatePosition.
+    auto holds = [&](vtkIdType c, const double x[3]) {
+      if (band->GetCellType(c) == VTK_TETRA)
+      {
+        band->GetCellPoints(c, corners);
+        double p[4][3], b[4];
+        for (int k = 0; k < 4; ++k)
+        {
+          band->GetPoint(corners->GetId(k), p[k]);
+        }
+        return vtkTetra::BarycentricCoords(const_cast<double*>(x), p[0], p[1], p[2], p[3], b) != 0 &&
+          *std::min_element(b, b + 4) >= -1e-12;
+      }
+      band->GetCell(c, cell);
+      double pcoords[3], d2;
+      int s = 0;
+      return cell->EvaluatePosition(x, nullptr, s, pcoords, d2, wts.data()) == 1;
+    };
+    for (vtkIdType i = 0; i < m && values; ++i)
     {
       double x[3] = { points[3 * i], points[3 * i + 1], points[3 * i + 2] };
-      const vtkIdType c = values ? locator->FindCell(x, tol2, cell, sub, pc, wts.data()) : -1;
-      if (c < 0)
+      double pc[3];
+      int sub = 0;
+      const vtkIdType first = locator->FindCell(x, tol2, cell, sub, pc, wts.data());
+      if (first < 0)
       {
         continue;
       }
+      vtkIdType chosen = first;
+      const double* w = wts.data();
+      if (*std::min_element(w, w + cell->GetNumberOfPoints()) <= 0.01)
+      {
+        // The sample is near a face, an edge or a corner of the cell: the
+        // cells that can hold it too are those with every corner that
+        // weighs (above 0.01), e.g. the neighbour across that face.
+        std::vector<vtkIdType> support;
+        for (vtkIdType k = 0; k < cell->GetNumberOfPoints(); ++k)
+        {
+          if (w[k] > 0.01)
+          {
+            support.push_back(cell->GetPointId(k));
+          }
+        }
+        candidates.clear();
+        vtkIdType nAround;
+        vtkIdType* around;
+        band->GetPointCells(support[0], nAround, around);
+        for (vtkIdType k = 0; k < nAround; ++k)
+        {
+          band->GetCellPoints(around[k], corners);
+          const vtkIdType* c0 = corners->GetPointer(0);
+          const vtkIdType* c1 = c0 + corners->GetNumberOfIds();
+          if (std::all_of(support.begin(), support.end(), [&](vtkIdType q) { return std::find(c0, c1, q) != c1; }))
+          {
+            candidates.push_back(around[k]);
+          }
+        }
+        // The cells that hold the sample (a sample outside every cell, within
+        // the tolerance of the domain's boundary, keeps the locator's cell).
+        accepted.clear();
+        for (const vtkIdType c : candidates)
+        {
+          if (holds(c, x))
+          {
+            accepted.push_back(c);
+          }
+        }
+        if (!accepted.empty())
+        {
+          chosen = accepted[0];
+          auto best = cornerKey(chosen);
+          for (std::size_t k = 1; k < accepted.size(); ++k)
+          {
+            const auto key = cornerKey(accepted[k]);
+            if (key < best)
+            {
+              chosen = accepted[k];
+              best = key;
+            }
+          }
+        }
+      }
+      if (ghosts && (ghosts->GetValue(cellIds->GetId(chosen)) & vtkDataSetAttributes::DUPLICATECELL))
+      {
+        continue; // its owner answers
+      }
+      band->GetCell(chosen, cell);
+      double closest[3], d2;
+      cell->EvaluatePosition(x, closest, sub, pc, d2, wts.data());
       double v = 0.0;
       for (vtkIdType k = 0; k < cell->GetNumberOfPoints(); ++k)
       {

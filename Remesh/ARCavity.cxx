@@ -257,8 +257,7 @@ private:
   std::vector<double> nodeSize;
   std::int64_t nBoundaryNodes = 0;
   std::size_t nShell = 0;
-  UnionFind kept{ 0 };
-  std::vector<char> touchesCavity;
+  std::vector<std::int64_t> keptBeyond; // per complex triangle: the kept cell beyond it, or -1
   TetGenResult refill;
   PrismStack stack;                      // the layer stack (options.Layers on)
   std::vector<std::int64_t> stackOuter;  // its outer nodes (stack ids), in the PLC after the cavity's
@@ -905,28 +904,15 @@ void CavityRun::BuildCavityBoundary()
   plcIndex.assign(nV, -1);
   plc = PiecewiseLinearComplex();
   nodeSize.clear();
-  kept = UnionFind(nT);
-  touchesCavity.assign(nT, 0);
+  keptBeyond.clear();
   for (std::size_t t = 0; t < nT; ++t)
   {
-    for (int f = 0; f < 4; ++f)
+    for (int f = 0; f < 4 && cavity[t]; ++f)
     {
       const std::int64_t nb = neighbor[4 * t + f];
-      if (!cavity[t])
-      {
-        if (nb >= 0 && !cavity[nb])
-        {
-          kept.Union(static_cast<std::int64_t>(t), nb);
-        }
-        continue;
-      }
       if (nb >= 0 && cavity[nb])
       {
         continue;
-      }
-      if (nb >= 0)
-      {
-        touchesCavity[nb] = 1;
       }
       for (int k = 0; k < 3; ++k)
       {
@@ -940,6 +926,7 @@ void CavityRun::BuildCavityBoundary()
         plc.Triangles.push_back(plcIndex[v]);
       }
       plc.TriangleMarkers.push_back(nb >= 0 ? 1 : 3); // 1 kept face, 3 domain boundary
+      keptBeyond.push_back(nb);
     }
   }
   nBoundaryNodes = static_cast<std::int64_t>(nodeSize.size());
@@ -965,19 +952,20 @@ void CavityRun::BuildCavityBoundary()
     {
       id = id >= 0 ? rank[id] : id;
     }
-    std::vector<std::array<std::int64_t, 4>> tris(plc.TriangleMarkers.size());
+    std::vector<std::array<std::int64_t, 5>> tris(plc.TriangleMarkers.size());
     for (std::size_t t = 0; t < tris.size(); ++t)
     {
       std::array<std::int64_t, 3> f = { rank[plc.Triangles[3 * t]], rank[plc.Triangles[3 * t + 1]],
         rank[plc.Triangles[3 * t + 2]] };
       std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
-      tris[t] = { f[0], f[1], f[2], plc.TriangleMarkers[t] };
+      tris[t] = { f[0], f[1], f[2], plc.TriangleMarkers[t], keptBeyond[t] };
     }
     std::sort(tris.begin(), tris.end());
     for (std::size_t t = 0; t < tris.size(); ++t)
     {
       std::copy(tris[t].begin(), tris[t].begin() + 3, &plc.Triangles[3 * t]);
       plc.TriangleMarkers[t] = static_cast<int>(tris[t][3]);
+      keptBeyond[t] = tris[t][4];
     }
   }
 }
@@ -1089,26 +1077,60 @@ bool CavityRun::AddSurfaceOrStack(int attempt)
 
 void CavityRun::AddHolePoints()
 {
-  // One hole point per kept region next to the cavity.
-  std::vector<char> holeDone(nT, 0);
-  for (std::size_t t = 0; t < nT; ++t)
+  // One hole point per patch of kept faces on the cavity's boundary (kept
+  // faces joined by their edges), inside the kept cell beyond the patch's
+  // first face in the complex's canonical order: defined by the cavity's
+  // boundary alone, whatever V's numbering or extent (the MPI driver refills
+  // a gathered part of V). The first kept cell of each kept region in V's
+  // order made TetGen's carving, and with it the refill's last flips, differ
+  // between a serial run and a distributed one.
+  const std::size_t nTriangles = keptBeyond.size();
+  std::vector<std::array<std::int64_t, 3>> edges; // (lower node, higher node, triangle)
+  edges.reserve(3 * nTriangles);
+  for (std::size_t t = 0; t < nTriangles; ++t)
   {
-    if (!touchesCavity[t])
+    if (keptBeyond[t] < 0)
     {
       continue;
     }
-    const std::int64_t r = kept.Find(static_cast<std::int64_t>(t));
-    if (holeDone[r])
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::int64_t a = plc.Triangles[3 * t + k], b = plc.Triangles[3 * t + (k + 1) % 3];
+      edges.push_back({ std::min(a, b), std::max(a, b), static_cast<std::int64_t>(t) });
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  UnionFind patches(nTriangles);
+  for (std::size_t e = 1; e < edges.size(); ++e)
+  {
+    if (edges[e][0] == edges[e - 1][0] && edges[e][1] == edges[e - 1][1])
+    {
+      patches.Union(edges[e][2], edges[e - 1][2]);
+    }
+  }
+  std::vector<char> holeDone(nTriangles, 0);
+  for (std::size_t t = 0; t < nTriangles; ++t)
+  {
+    const std::int64_t r = keptBeyond[t] < 0 ? -1 : patches.Find(static_cast<std::int64_t>(t));
+    if (r < 0 || holeDone[r])
     {
       continue;
     }
     holeDone[r] = 1;
-    double c[3] = { 0.0, 0.0, 0.0 };
+    std::array<const double*, 4> corner; // summed in the order of their coordinates
     for (int k = 0; k < 4; ++k)
+    {
+      corner[k] = &V.Points[3 * V.Tetrahedra[4 * keptBeyond[t] + k]];
+    }
+    std::sort(corner.begin(), corner.end(), [](const double* a, const double* b) {
+      return std::lexicographical_compare(a, a + 3, b, b + 3);
+    });
+    double c[3] = { 0.0, 0.0, 0.0 };
+    for (const double* x : corner)
     {
       for (int d = 0; d < 3; ++d)
       {
-        c[d] += 0.25 * V.Points[3 * V.Tetrahedra[4 * t + k] + d];
+        c[d] += 0.25 * x[d];
       }
     }
     plc.Holes.insert(plc.Holes.end(), c, c + 3);

@@ -14,18 +14,22 @@ pieces (one ghost level). Compared with the serial run:
 - the fitted surface's parameters: a plane's normal within 0.01 degree and
   its origin's offset along the normal within 1e-3 of the input's size at
   the surface; a cone's half-angle within 0.01 degree, its axis within 0.01
-  degree, its apex within 1e-3 of that size (the medial points are gathered
-  to rank 0, so the fits agree to round-off);
+  degree, its apex within 1e-3 of that size; and then the whole fitted
+  surface (points, triangles, every array) the serial one's bit for bit
+  (the medial points are gathered to rank 0, and the shock centring's
+  samples on faces between cells take a cell chosen whatever the partition);
 - node counts (the ranks' union, shared points merged) within 1% of the
   serial run's, cell counts within 1%;
 - artest.check_valid_mesh on the gathered result (corner Jacobians,
   conforming, watertight, boundary face for face, volume);
 - the field-data arrays (AdaptToShocks', EmbeddedRemesh's) on every rank,
   InputNodes, NewNodes and OutputNodes equal on both ranks, InputNodes the
-  serial run's and the others within 1 % of it (the fitted surface agrees
-  with the serial one to round-off, not bit for bit: QuadricFit's shock
-  centring interpolates the solution in either rank's cell at a face between
-  them), OutputNodes the gathered mesh's nodes, SurfaceSizeRatio within 0.01;
+  serial run's and the others within 1 % of it, OutputNodes the gathered
+  mesh's nodes, SurfaceSizeRatio within 0.01;
+- the cone (distributed remeshing): the ranks' mesh the serial one, cell for
+  cell (exact coordinates) and every point array bit for bit; the wedge is
+  gathered to rank 0 and renumbered, and its 2-D remeshing differs in a few
+  nodes;
 - two more 2-rank runs give the first one's bits: every point, cell and
   array of both ranks' meshes and surfaces (the Seconds* timings aside).
 """
@@ -111,6 +115,9 @@ def compare(name, label, layers=None):
         check(da < 0.01 and axis < 0.01 and apex < 1e-3 * h,
               "%s: the cone's half-angle %.2e deg, axis %.2e deg, apex %.2e (input size %.4f) from the serial one"
               % (label, da, axis, apex, h))
+    same_surface = artest.differences(S, R)
+    check(not same_surface, "%s: the fitted surface is the serial one bit for bit%s"
+          % (label, " (%s differ)" % ", ".join(same_surface[:5]) if same_surface else ""))
     # the adapted mesh, gathered
     G = merged(par)
     dn = G.GetNumberOfPoints() / ref.GetNumberOfPoints() - 1
@@ -124,11 +131,9 @@ def compare(name, label, layers=None):
     nodes = [(n, f(p, n)[0], f(ref, n)[0]) for n in ("InputNodes", "NewNodes", "OutputNodes") for p in par
              if n in p.FieldData.keys()]
     # The ranks agree with each other exactly and with the serial run within
-    # the 1 % above: QuadricFit's shock centring probes the solution on each
-    # rank's piece, and a sample on a face between two ranks' cells is
-    # interpolated in either, so the surface agrees with the serial one to
-    # round-off (1e-8 degree), not bit for bit, and the distributed remeshing
-    # of a surface that differs in the last bits differs in a few nodes.
+    # the 1 % above; the cone (distributed remeshing) exactly, below. The
+    # wedge is gathered to rank 0, renumbered, and its 2-D remeshing differs
+    # from the serial one in a few nodes.
     mine = [(n, f(par[0], n)[0], f(par[1], n)[0], f(ref, n)[0]) for n in ("InputNodes", "NewNodes", "OutputNodes")
             if all(n in p.FieldData.keys() for p in par)]
     check(len(mine) == 3 and all(a == b and abs(a / c - 1) < 0.01 for _, a, b, c in mine)
@@ -139,6 +144,12 @@ def compare(name, label, layers=None):
     check(abs(f(par[0], "SurfaceSizeRatio")[0] - f(ref, "SurfaceSizeRatio")[0]) < 0.01,
           "%s: SurfaceSizeRatio %.3f (serial %.3f)" % (label, f(par[0], "SurfaceSizeRatio")[0], f(ref, "SurfaceSizeRatio")[0]))
     artest.check_valid_mesh("%s, 2 ranks gathered" % label, src, G)
+    if label.startswith("cone"):
+        # Distributed remeshing on the serial run's surface gives the serial
+        # run's mesh and fields, bit for bit.
+        same, what = artest.same_mesh(ref, G)
+        check(same, label + ": the 2 ranks' mesh is the serial one, cell for cell and every point array bit for bit%s"
+              % ("" if same else " (%s differ)" % what))
     for line in text.splitlines():
         if line.startswith("rank "):
             artest.say("  " + line)

@@ -172,6 +172,46 @@ def differences(a, b):
     return sorted(k for k in set(ca) | set(cb) if ca.get(k) != cb.get(k))
 
 
+def same_mesh(a, b):
+    """Whether two unstructured grids are the same mesh bit for bit up to
+    their numbering: the same cells (type and corners' exact coordinates)
+    and, at every point (by its exact coordinates), the same value of every
+    point array. Returns (equal, what differs)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    ga = a.VTKObject if hasattr(a, "VTKObject") else a
+    gb = b.VTKObject if hasattr(b, "VTKObject") else b
+    P = [vtk_to_numpy(g.GetPoints().GetData()).astype(np.float64) for g in (ga, gb)]
+    _, inverse = np.unique(np.vstack(P), axis=0, return_inverse=True)
+    ids = [inverse[:len(P[0])], inverse[len(P[0]):]]
+    if len(np.unique(ids[0])) != len(P[0]) or len(np.unique(ids[1])) != len(P[1]):
+        return False, "coincident points"
+    keys = []
+    for g, pid in zip((ga, gb), ids):
+        off = vtk_to_numpy(g.GetCells().GetOffsetsArray()).astype(np.int64)
+        conn = pid[vtk_to_numpy(g.GetCells().GetConnectivityArray()).astype(np.int64)]
+        sizes = np.diff(off)
+        key = np.full((len(sizes), 9), -1, dtype=np.int64)
+        key[:, 0] = vtk_to_numpy(g.GetCellTypesArray())
+        rows = np.repeat(np.arange(len(sizes)), sizes)
+        cols = np.arange(len(conn)) - np.repeat(off[:-1], sizes)
+        corners = np.full((len(sizes), 8), np.iinfo(np.int64).max, dtype=np.int64)
+        corners[rows, cols] = conn
+        key[:, 1:] = np.sort(corners, axis=1)
+        keys.append(key[np.lexsort(key.T[::-1])])
+    if keys[0].shape != keys[1].shape or not np.array_equal(keys[0], keys[1]):
+        return False, "cells (%d and %d)" % (len(keys[0]), len(keys[1]))
+    order = [np.argsort(pid) for pid in ids]
+    differ = []
+    for i in range(ga.GetPointData().GetNumberOfArrays()):
+        name = ga.GetPointData().GetArrayName(i)
+        x, y = ga.GetPointData().GetArray(name), gb.GetPointData().GetArray(name)
+        if x is None:
+            continue
+        if y is None or not np.array_equal(vtk_to_numpy(x)[order[0]], vtk_to_numpy(y)[order[1]]):
+            differ.append(name)
+    return not differ, "point arrays " + ", ".join(differ) if differ else ""
+
+
 def fit_plane(points, weights=None):
     """Least-squares plane through points: (unit normal, centroid)."""
     p = np.asarray(points, dtype=float)

@@ -141,6 +141,91 @@ vtkSmartPointer<vtkPolyData> BoundarySurface(vtkDataSet* domain)
   surface->SetPolys(sorted);
   return surface;
 }
+
+/// The order of `ids` (a global-ids array) as a permutation, or empty where
+/// there is no such array or two entries share an id.
+std::vector<vtkIdType> GlobalIdOrder(vtkDataArray* ids, vtkIdType n)
+{
+  std::vector<vtkIdType> order;
+  if (!ids || ids->GetNumberOfComponents() != 1 || ids->GetNumberOfTuples() != n)
+  {
+    return order;
+  }
+  std::vector<double> id(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    id[i] = ids->GetComponent(i, 0);
+  }
+  order.resize(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), vtkIdType(0));
+  std::sort(order.begin(), order.end(), [&](vtkIdType a, vtkIdType b) { return id[a] < id[b]; });
+  for (vtkIdType i = 1; i < n; ++i)
+  {
+    if (!(id[order[i - 1]] < id[order[i]]))
+    {
+      order.clear();
+      break;
+    }
+  }
+  return order;
+}
+
+/// `grid` with its points in the order of their global ids, and its cells in
+/// the order of theirs where they have them (else as they are); unchanged
+/// without point global ids, with a repeated id, or with polyhedra.
+void PutInGlobalIdOrder(vtkUnstructuredGrid* grid)
+{
+  const vtkIdType nPoints = grid->GetNumberOfPoints(), nCells = grid->GetNumberOfCells();
+  const std::vector<vtkIdType> pointOrder = GlobalIdOrder(grid->GetPointData()->GetGlobalIds(), nPoints);
+  if (pointOrder.empty() || nCells == 0)
+  {
+    return;
+  }
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    if (grid->GetCellType(c) == VTK_POLYHEDRON)
+    {
+      return;
+    }
+  }
+  std::vector<vtkIdType> cellOrder = GlobalIdOrder(grid->GetCellData()->GetGlobalIds(), nCells);
+  if (cellOrder.empty())
+  {
+    cellOrder.resize(static_cast<std::size_t>(nCells));
+    std::iota(cellOrder.begin(), cellOrder.end(), vtkIdType(0));
+  }
+  std::vector<vtkIdType> newIndex(static_cast<std::size_t>(nPoints));
+  for (vtkIdType i = 0; i < nPoints; ++i)
+  {
+    newIndex[pointOrder[i]] = i;
+  }
+  vtkNew<vtkUnstructuredGrid> sorted;
+  vtkNew<vtkPoints> points;
+  points->SetDataType(grid->GetPoints()->GetDataType());
+  points->SetNumberOfPoints(nPoints);
+  sorted->GetPointData()->CopyAllocate(grid->GetPointData(), nPoints);
+  for (vtkIdType i = 0; i < nPoints; ++i)
+  {
+    points->SetPoint(i, grid->GetPoint(pointOrder[i]));
+    sorted->GetPointData()->CopyData(grid->GetPointData(), pointOrder[i], i);
+  }
+  sorted->SetPoints(points);
+  sorted->Allocate(nCells);
+  sorted->GetCellData()->CopyAllocate(grid->GetCellData(), nCells);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType i = 0; i < nCells; ++i)
+  {
+    grid->GetCellPoints(cellOrder[i], ids);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      ids->SetId(k, newIndex[ids->GetId(k)]);
+    }
+    sorted->InsertNextCell(grid->GetCellType(cellOrder[i]), ids);
+    sorted->GetCellData()->CopyData(grid->GetCellData(), cellOrder[i], i);
+  }
+  sorted->GetFieldData()->ShallowCopy(grid->GetFieldData());
+  grid->ShallowCopy(sorted);
+}
 }
 
 //------------------------------------------------------------------------------
@@ -362,6 +447,7 @@ vtkSmartPointer<vtkUnstructuredGrid> vtkARParallel::GatherVolumeOnRoot(vtkUnstru
   whole = MergeOnRoot(owned);
   if (ctrl->GetLocalProcessId() == 0)
   {
+    PutInGlobalIdOrder(whole);
     whole->GetFieldData()->ShallowCopy(piece->GetFieldData());
   }
   return whole;

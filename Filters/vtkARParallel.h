@@ -64,7 +64,11 @@ public:
   /// The owned cells of every rank's piece in one mesh on rank 0 (ghost
   /// cells dropped, the points the pieces share merged: exact duplicates
   /// only), with rank 0's field data; an empty mesh on the other ranks. In
-  /// serial, the piece's owned cells. Collective.
+  /// serial, the piece's owned cells. Where the pieces carry point global
+  /// ids (a partitioned dataset's), the points are put in their order, and
+  /// the cells in the order of the cells' global ids where they have them
+  /// too: the order of the serial mesh the ids number, whose work on rank 0
+  /// (the 2-D remeshing) then gives the serial run's bits. Collective.
   static vtkSmartPointer<vtkUnstructuredGrid> GatherVolumeOnRoot(vtkUnstructuredGrid* piece);
   /// Every rank's `local` grid on rank 0, in rank order, coincident points
   /// merged (vtkAppendFilter, tolerance 0); an empty grid elsewhere. Under

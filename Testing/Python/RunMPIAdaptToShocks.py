@@ -26,10 +26,11 @@ pieces (one ghost level). Compared with the serial run:
   InputNodes, NewNodes and OutputNodes equal on both ranks, InputNodes the
   serial run's and the others within 1 % of it, OutputNodes the gathered
   mesh's nodes, SurfaceSizeRatio within 0.01;
-- the cone (distributed remeshing): the ranks' mesh the serial one, cell for
-  cell (exact coordinates) and every point array bit for bit; the wedge is
-  gathered to rank 0 and renumbered, and its 2-D remeshing differs in a few
-  nodes;
+- the ranks' mesh the serial one, cell for cell (exact coordinates) and
+  every point array bit for bit: the cone's, with and without prism layers,
+  remeshed distributed; the one-cell-deep wedge's, gathered to rank 0, put
+  back in the serial order by its global ids (SplitIntoPieces) and remeshed
+  there;
 - two more 2-rank runs give the first one's bits: every point, cell and
   array of both ranks' meshes and surfaces (the Seconds* timings aside).
 """
@@ -131,9 +132,7 @@ def compare(name, label, layers=None):
     nodes = [(n, f(p, n)[0], f(ref, n)[0]) for n in ("InputNodes", "NewNodes", "OutputNodes") for p in par
              if n in p.FieldData.keys()]
     # The ranks agree with each other exactly and with the serial run within
-    # the 1 % above; the cone (distributed remeshing) exactly, below. The
-    # wedge is gathered to rank 0, renumbered, and its 2-D remeshing differs
-    # from the serial one in a few nodes.
+    # the 1 % above, and exactly: the meshes are the same, below.
     mine = [(n, f(par[0], n)[0], f(par[1], n)[0], f(ref, n)[0]) for n in ("InputNodes", "NewNodes", "OutputNodes")
             if all(n in p.FieldData.keys() for p in par)]
     check(len(mine) == 3 and all(a == b and abs(a / c - 1) < 0.01 for _, a, b, c in mine)
@@ -144,12 +143,12 @@ def compare(name, label, layers=None):
     check(abs(f(par[0], "SurfaceSizeRatio")[0] - f(ref, "SurfaceSizeRatio")[0]) < 0.01,
           "%s: SurfaceSizeRatio %.3f (serial %.3f)" % (label, f(par[0], "SurfaceSizeRatio")[0], f(ref, "SurfaceSizeRatio")[0]))
     artest.check_valid_mesh("%s, 2 ranks gathered" % label, src, G)
-    if label.startswith("cone"):
-        # Distributed remeshing on the serial run's surface gives the serial
-        # run's mesh and fields, bit for bit.
-        same, what = artest.same_mesh(ref, G)
-        check(same, label + ": the 2 ranks' mesh is the serial one, cell for cell and every point array bit for bit%s"
-              % ("" if same else " (%s differ)" % what))
+    # The remeshing (distributed, or on rank 0 of the gathered mesh in the
+    # serial order) of the serial run's surface gives the serial run's mesh
+    # and fields, bit for bit.
+    same, what = artest.same_mesh(ref, G)
+    check(same, label + ": the 2 ranks' mesh is the serial one, cell for cell and every point array bit for bit%s"
+          % ("" if same else " (%s differ)" % what))
     for line in text.splitlines():
         if line.startswith("rank "):
             artest.say("  " + line)

@@ -1,7 +1,7 @@
 """Splits a .vtu into a 2-piece .pvtu (cells split at the median x of their
 centres; points at the cut are duplicated, as in any partitioned dataset),
-carrying the serial ids as SerialCellId / SerialPointId (the latter also as
-the points' global ids).
+carrying the serial ids as SerialCellId / SerialPointId (also as the cells'
+and the points' global ids).
 
     pvpython SplitIntoPieces.py <in.vtu> <out.pvtu> [<serial-with-ids.vtu>]
 
@@ -39,6 +39,10 @@ def with_serial_ids(path):
     # The point ids are the points' global ids: GhostCellsGenerator matches
     # the partitions' interface points by them.
     grid.GetPointData().SetGlobalIds(grid.GetPointData().GetArray("SerialPointId"))
+    # The cell ids are the cells' global ids, as a partitioner leaves them
+    # (RedistributeDataSet's GenerateGlobalCellIds): a mesh gathered to
+    # rank 0 is put back in the serial order by them.
+    grid.GetCellData().SetGlobalIds(grid.GetCellData().GetArray("SerialCellId"))
     return grid
 
 

@@ -4,8 +4,9 @@
 On the bundled OpenFOAM cone: ShockSensor (NormalMach at the points and
 cells, ShockCells), WeightFunction (its cell and point arrays),
 FeatureCluster (the medial points and their arrays), and AdaptToShocks with
-tetrahedra and with prism layers (the adapted mesh's points, cells and every
-point and cell array, the fitted surfaces' points): every array of the
+tetrahedra and with prism layers (artest.contents: the adapted meshes' and
+the fitted surfaces' points, cells and every point, cell and field array but
+the Seconds* timings): every array of the
 second and third run equal to the first's bit for bit. Before the
 cell-to-point averages summed each point's cells in a fixed order, NormalMach
 differed in 4,229 of 15,746 points between two runs in one process.
@@ -23,7 +24,6 @@ import sys
 
 import numpy as np
 from paraview.simple import *
-from vtkmodules.util.numpy_support import vtk_to_numpy
 
 import artest
 from artest import check
@@ -31,22 +31,6 @@ from artest import check
 artest.load_plugin(globals())
 cone = XMLUnstructuredGridReader(FileName=[artest.data("cone20Ma2p5.vtu")])
 cone.UpdatePipeline()  # (so that every run's WeightFunction gets the same default variables)
-
-
-def arrays(d, prefix):
-    """name -> bytes of every point and cell array (and the points, cells)."""
-    g = d.VTKObject
-    out = {}
-    if g.GetPoints() is not None:
-        out[prefix + "points"] = vtk_to_numpy(g.GetPoints().GetData()).tobytes()
-    if hasattr(g, "GetCells") and g.GetCells() is not None:
-        out[prefix + "cells"] = vtk_to_numpy(g.GetCells().GetConnectivityArray()).tobytes()
-    for kind, data in (("point/", g.GetPointData()), ("cell/", g.GetCellData())):
-        for i in range(data.GetNumberOfArrays()):
-            a = data.GetArray(i)
-            if a is not None:
-                out[prefix + kind + a.GetName()] = vtk_to_numpy(a).tobytes()
-    return out
 
 
 def run():
@@ -58,7 +42,7 @@ def run():
     result = {}
     for label, proxy, port in (("sensor:", sensor, 0), ("weight:", weight, 0), ("medial:", clusters, 1),
                                ("adapted:", tets, 0), ("surfaces:", tets, 1), ("layers:", prisms, 0)):
-        result.update(arrays(artest.fetch(proxy, port), label))
+        result.update((label + name, value) for name, value in artest.contents(artest.fetch(proxy, port)).items())
     return result
 
 

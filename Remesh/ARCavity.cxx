@@ -163,6 +163,71 @@ void ClearPinches(const std::int64_t* tris, std::size_t nPoints, std::size_t nTr
   }
 }
 
+/// Drops the pieces of S (edge-connected, keep[t] = 1) that have no
+/// interior point, every point on the piece's border, apart from the
+/// largest piece: a strip or a lone triangle that the trim cut off beside
+/// the rest. A prism stack on such a piece is closure all round (no column
+/// of full height), and beside another piece's border the two closures
+/// leave TetGen a gap narrower than their triangles (on cone15Ma3o1 a lone
+/// triangle next to the main piece's border left new tetrahedra of 4.2
+/// degrees there).
+void DropBorderOnlyPieces(const std::int64_t* tris, std::size_t nPoints, std::size_t nTris, std::vector<char>& keep)
+{
+  auto key = [&](std::int64_t a, std::int64_t b) {
+    return static_cast<std::uint64_t>(std::min(a, b)) * nPoints + static_cast<std::uint64_t>(std::max(a, b));
+  };
+  // Per edge of the kept triangles: the first triangle using it and the count.
+  std::unordered_map<std::uint64_t, std::pair<std::int64_t, int>> edges;
+  UnionFind pieces(nTris);
+  for (std::size_t t = 0; t < nTris; ++t)
+  {
+    for (int k = 0; k < 3 && keep[t]; ++k)
+    {
+      const auto [it, added] = edges.emplace(key(tris[3 * t + k], tris[3 * t + (k + 1) % 3]),
+        std::make_pair(static_cast<std::int64_t>(t), 0));
+      ++it->second.second;
+      if (!added)
+      {
+        pieces.Union(it->second.first, static_cast<std::int64_t>(t));
+      }
+    }
+  }
+  std::vector<char> onBorder(nPoints, 0);
+  for (std::size_t t = 0; t < nTris; ++t)
+  {
+    for (int k = 0; k < 3 && keep[t]; ++k)
+    {
+      const std::int64_t a = tris[3 * t + k], b = tris[3 * t + (k + 1) % 3];
+      if (edges[key(a, b)].second == 1)
+      {
+        onBorder[a] = onBorder[b] = 1;
+      }
+    }
+  }
+  std::vector<char> hasInterior(nTris, 0);
+  std::vector<std::int64_t> size(nTris, 0);
+  std::int64_t largest = -1;
+  for (std::size_t t = 0; t < nTris; ++t)
+  {
+    if (!keep[t])
+    {
+      continue;
+    }
+    const std::int64_t r = pieces.Find(static_cast<std::int64_t>(t));
+    for (int k = 0; k < 3; ++k)
+    {
+      hasInterior[r] |= onBorder[tris[3 * t + k]] ? 0 : 1;
+    }
+    ++size[r];
+    largest = (largest < 0 || size[r] > size[largest]) ? r : largest;
+  }
+  for (std::size_t t = 0; t < nTris; ++t)
+  {
+    const std::int64_t r = keep[t] ? pieces.Find(static_cast<std::int64_t>(t)) : -1;
+    keep[t] = keep[t] && (r == largest || hasInterior[r]);
+  }
+}
+
 /**
  * One RemeshLocalCavity run: the inputs, the state its stages share, and the
  * stages in the order they run (Execute), each a step of the header's
@@ -728,6 +793,7 @@ bool CavityRun::TrimSurface()
   if (layers)
   {
     ClearPinches(surfaceTriangles, nSurfacePoints, nSurfaceTriangles, keepTriangle);
+    DropBorderOnlyPieces(surfaceTriangles, nSurfacePoints, nSurfaceTriangles, keepTriangle);
   }
   for (std::size_t t = 0; t < nSurfaceTriangles; ++t)
   {

@@ -93,9 +93,13 @@ struct CavityOptions
   /// (the default) leaves them off and the refill is tetrahedra only. When on:
   ///  - the removal radius grows by the stack's height z_N: V_j goes when it
   ///    lies within RemovalFactor * max(l_si, l_vj) + z_N of a visible S_i;
-  ///  - S (after the trim, and with pinched points cleared: at a point where
-  ///    S's triangles form several fans only the largest fan stays) gets the
-  ///    layer stack, built against the cavity's boundary as obstacles;
+  ///  - S (after the trim, with pinched points cleared: at a point where
+  ///    S's triangles form several fans only the largest fan stays, and
+  ///    with the pieces that have no interior point dropped, apart from the
+  ///    largest piece: a stack on a strip or a lone triangle cut off by the
+  ///    trim is closure all round and cramps TetGen beside the next piece's
+  ///    closure) gets the layer stack, built against the cavity's boundary
+  ///    as obstacles;
   ///  - TetGen fills the void between the cavity's boundary and the stack's
   ///    outer surface (its triangles kept exactly, marker 4, a hole point
   ///    inside the stack, the size at the stack's outer nodes = S's edge

@@ -549,6 +549,46 @@ TEST(PrismLayers, CavityWithLayersOnAPlaneIsAValidHybridMesh)
   EXPECT_TRUE(plain.Prisms.empty() && plain.Pyramids.empty() && plain.TetrahedronLayer.empty());
 }
 
+// A piece of S with no interior point (a strip one triangle wide, as a trim
+// can cut off beside the rest) is dropped, the rest keeps its layers; the
+// largest piece stays even when it has no interior point.
+TEST(PrismLayers, CavityWithLayersDropsAStripCutOffBesideS)
+{
+  const ar::TetMesh cube = KuhnCube(12);
+  const Surface patch = TiltedPatch();
+  // Columns 7 and 9 of the 10 x 10 grid's cells removed: the cells 0-6
+  // (140 triangles) and a strip of column 8 (20 triangles, each point on its
+  // border), 0.05 apart.
+  Surface s = patch;
+  s.Triangles.clear();
+  for (std::size_t t = 0; t < patch.Triangles.size() / 3; ++t)
+  {
+    const int column = static_cast<int>(t / 2 % 10);
+    if (column != 7 && column != 9)
+      s.Triangles.insert(s.Triangles.end(), &patch.Triangles[3 * t], &patch.Triangles[3 * t] + 3);
+  }
+  ar::CavityOptions o;
+  o.Layers.NumberOfLayers = 3;
+  o.Layers.FirstLayerThickness = 0.004;
+  o.Layers.GrowthRatio = 1.2;
+  ar::CavityRemesh r;
+  std::string error;
+  ASSERT_TRUE(ar::RemeshLocalCavity(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, r, error)) << error;
+  EXPECT_EQ(r.SurfaceTrianglesUsed, 140u);
+  ExpectValidCavity(cube, r, r.SurfaceTrianglesUsed, 3, true, "plane and a strip beside it");
+  // The strip alone: the largest piece, kept.
+  Surface strip = patch;
+  strip.Triangles.clear();
+  for (std::size_t t = 0; t < patch.Triangles.size() / 3; ++t)
+    if (t / 2 % 10 == 8)
+      strip.Triangles.insert(strip.Triangles.end(), &patch.Triangles[3 * t], &patch.Triangles[3 * t] + 3);
+  ASSERT_TRUE(ar::RemeshLocalCavity(cube, strip.Points.data(), strip.Points.size() / 3, strip.Triangles.data(),
+    strip.Triangles.size() / 3, o, r, error)) << error;
+  EXPECT_EQ(r.SurfaceTrianglesUsed, 20u);
+  ExpectValidCavity(cube, r, r.SurfaceTrianglesUsed, 3, true, "a strip alone", false);
+}
+
 TEST(PrismLayers, OneSidedLayersMeetTetrahedraOnS)
 {
   const ar::TetMesh cube = KuhnCube(12);

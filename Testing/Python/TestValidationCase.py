@@ -32,7 +32,19 @@ Asserts, on the adapted mesh and the first fitted surface (port 1):
 - the usual validity (artest.check_valid_mesh): positive corner Jacobians,
   conforming, the boundary the input's face for face, watertight, volume to
   1e-9;
-- the node counts in the field data, printed.
+- the node counts in the field data, printed;
+- in 3-D, with prism layers (AdaptToShocks with LayerType Prisms, the other
+  properties at their defaults): prisms built, every new tetrahedron at
+  least 10 degrees, the layer cells (prisms, pyramids, closure tetrahedra)
+  at least CLOSURE_FLOOR, the mesh valid (artest.check_valid_mesh). Not on
+  wedge12Ma6tet: its domain is 0.06 deep, and with layers S is trimmed two
+  of its edges (the input's size, about 0.02) back from the boundary, so
+  nothing of it is left (AdaptToShocks refuses and passes the input
+  through). The closure tetrahedra at S's border points (one per layer
+  between the column and a row of apices about 0.7 border edges out, as
+  thin as their layer by design, ARPrismLayers.h) are 5.3-5.7 degrees on
+  the cones; on cone15Ma3o1 a lone triangle that the trim cut off beside S
+  had made them 3.6 and TetGen's tetrahedra between the two closures 4.2.
 """
 import os
 import sys
@@ -51,6 +63,10 @@ ANGLE_TOLERANCE = 0.5  # degrees, the issue's target
 # fit is +0.57; on a mesh 1.3x finer (41,062 tetrahedra, 13 minutes of solver,
 # too slow here) the far part is at +0.12 and the fit at +0.50.
 CASE_TOLERANCE = {"wedge12Ma6tet": 0.7}
+# The prism-layer variant: the 3-D cases with room for the stack, and the
+# smallest angle asked of the layer cells (the closure's tetrahedra, see above).
+NO_PRISM_CASES = {"wedge12Ma6tet"}
+CLOSURE_FLOOR = 5.0
 
 case = sys.argv[1]
 artest.load_plugin(globals())
@@ -179,6 +195,18 @@ check(len(ratios) > 0 and np.percentile(ratios, 1) >= 0.5 and min(ratios) >= 0.2
       "(1%% %.2f, min %.2f, median %.2f of it)"
       % (case, len(ratios), requested, np.percentile(ratios, 1), min(ratios), np.median(ratios)))
 artest.check_valid_mesh(case, src, out)
+if not two_d and case not in NO_PRISM_CASES:
+    layered = artest.fetch(AdaptToShocks(Input=reader, LayerType="Prisms"))
+    built = "Prisms" in layered.FieldData.keys() and f(layered, "Prisms") > 0
+    check(built, "%s, prism layers: %d prisms, %d pyramids, %d closure tetrahedra"
+          % (case, f(layered, "Prisms") if built else 0, f(layered, "Pyramids") if built else 0,
+             f(layered, "LayerClosureTetrahedra") if built else 0))
+    if built:
+        check(f(layered, "MinDihedralAngleNew") >= 10.0 and f(layered, "MinDihedralAngleLayerCells") >= CLOSURE_FLOOR,
+              "%s, prism layers: the smallest angle of the new tetrahedra is %.1f deg (at least 10), of the layer "
+              "cells %.1f (at least %.1f)" % (case, f(layered, "MinDihedralAngleNew"),
+                                              f(layered, "MinDihedralAngleLayerCells"), CLOSURE_FLOOR))
+        artest.check_valid_mesh(case + ", prism layers", src, layered)
 artest.say("%s: nodes %d -> %d (%d new, %d removed), cells %d -> %d"
            % (case, f(out, "InputNodes"), f(out, "OutputNodes"), f(out, "NewNodes"), f(out, "RemovedNodes"),
               src.GetNumberOfCells(), out.GetNumberOfCells()))

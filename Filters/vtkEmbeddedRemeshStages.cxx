@@ -28,6 +28,7 @@
 #include "vtkIdTypeArray.h"
 #include "vtkMath.h"
 #include "vtkMultiProcessController.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPThreadLocalObject.h"
@@ -909,6 +910,17 @@ vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARFieldTransfer::
   const std::vector<vtkIdType>& cellSource)
 {
   vtkEmbeddedRemeshNewTuples n;
+  // Only what a field needs is located: the new cells when the output has
+  // cell arrays to fill, the new points when it has point arrays or needs
+  // them as the cells' starts. (A mesh with point fields only, the usual
+  // solution, has a million new cells at 1e6 tetrahedra: they took most of
+  // the interpolation's time for nothing.)
+  const bool cells = output->GetCellData()->GetNumberOfArrays() > 0;
+  const bool points = cells || output->GetPointData()->GetNumberOfArrays() > 0;
+  if (!points)
+  {
+    return n;
+  }
   const vtkIdType nOut = output->GetNumberOfPoints();
   std::vector<vtkIdType> queryOf(nOut, -1); // new point -> its query
   for (vtkIdType i = 0; i < nOut; ++i)
@@ -928,6 +940,10 @@ vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARFieldTransfer::
   n.PointIn.resize(n.Points.size());
   n.Weights.resize(4 * n.Points.size());
   locator.Locate(nNewPoints, where.data(), nullptr, n.PointIn.data(), n.Weights.data());
+  if (!cells)
+  {
+    return n;
+  }
 
   // The new cells' centres, each walked to from the cell at one of its
   // corners (a new point's, else the first corner's startOf).

@@ -291,11 +291,31 @@ void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
 
 double vtkEmbeddedRemeshOutputSizeAtSurface(const ar::CavityRemesh& r)
 {
-  std::vector<double> lv =
-    ar::LongestEdgeAtNodes(r.Mesh.Points.data(), r.Mesh.Points.size() / 3, r.Mesh.Tetrahedra.data(),
-      r.Mesh.NumberOfTetrahedra());
-  ar::AccumulateLongestEdges(ar::CellShape::Wedge, r.Mesh.Points.data(), r.Prisms.data(), r.Prisms.size() / 6, lv);
-  ar::AccumulateLongestEdges(ar::CellShape::Pyramid, r.Mesh.Points.data(), r.Pyramids.data(), r.Pyramids.size() / 5, lv);
+  // l_v is read at S's nodes only: the cells without one of them (nearly
+  // all of a large mesh) cannot change it and are skipped. (A maximum does
+  // not depend on the order it is taken in: the value is the whole mesh's.)
+  const std::size_t nPoints = r.Mesh.Points.size() / 3;
+  std::vector<char> atSurface(nPoints, 0);
+  for (const std::int64_t v : r.Surface)
+  {
+    atSurface[v] = 1;
+  }
+  std::vector<double> lv(nPoints, 0.0);
+  auto accumulate = [&](ar::CellShape shape, const std::vector<std::int64_t>& cells) {
+    const std::size_t nodes = static_cast<std::size_t>(ar::NumberOfNodes(shape));
+    std::vector<std::int64_t> touching;
+    for (std::size_t c = 0; c + nodes <= cells.size(); c += nodes)
+    {
+      if (std::any_of(&cells[c], &cells[c] + nodes, [&](std::int64_t v) { return atSurface[v] != 0; }))
+      {
+        touching.insert(touching.end(), &cells[c], &cells[c] + nodes);
+      }
+    }
+    ar::AccumulateLongestEdges(shape, r.Mesh.Points.data(), touching.data(), touching.size() / nodes, lv);
+  };
+  accumulate(ar::CellShape::Tetrahedron, r.Mesh.Tetrahedra);
+  accumulate(ar::CellShape::Wedge, r.Prisms);
+  accumulate(ar::CellShape::Pyramid, r.Pyramids);
   return ar::MedianAtNodes(lv, r.Surface.data(), r.Surface.size());
 }
 

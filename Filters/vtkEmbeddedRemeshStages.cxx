@@ -155,6 +155,8 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
   const vtkIdType blockSize = 20000;
   const vtkIdType nBlocks = (n + blockSize - 1) / blockSize;
   std::vector<vtkEmbeddedRemeshQuality> partial(static_cast<std::size_t>(nBlocks));
+  // The output's points are doubles (the drivers make them so): read in place.
+  vtkDoubleArray* xyz = vtkDoubleArray::SafeDownCast(output->GetPoints()->GetData());
   auto work = [&](vtkIdType w) {
     vtkEmbeddedRemeshQuality& sums = partial[w];
     const vtkIdType first = w * blockSize, last = std::min(n, first + blockSize);
@@ -191,9 +193,17 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
       }
       for (vtkIdType k = 0; k < npts; ++k)
       {
-        output->GetPoint(pts[type == VTK_VOXEL ? voxelToHexahedron[k] : k], &x[3 * k]);
+        const vtkIdType p = pts[type == VTK_VOXEL ? voxelToHexahedron[k] : k];
+        if (xyz)
+        {
+          std::copy(xyz->GetPointer(3 * p), xyz->GetPointer(3 * p) + 3, &x[3 * k]);
+        }
+        else
+        {
+          output->GetPoint(p, &x[3 * k]);
+        }
       }
-      const ar::CellQuality q = ar::ComputeCellQuality(shape, x);
+      const ar::CellQuality q = ar::ComputeCellQuality(shape, x, false); // (the scaled Jacobian is not reported)
       minAngle->SetValue(c, q.MinDihedralAngle);
       maxAngle->SetValue(c, q.MaxDihedralAngle);
       aspect->SetValue(c, q.AspectRatio);

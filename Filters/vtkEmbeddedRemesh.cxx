@@ -310,18 +310,25 @@ bool SplitVolume(vtkUnstructuredGrid* input, ar::TetMesh& tets, ar::CavityOption
     input->GetPoint(i, &tets.Points[3 * i]);
   }
   options.LockedNodes.assign(nPoints, 0);
+  const vtkIdType nCells = input->GetNumberOfCells();
+  vtkIdType nTets = 0;
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    nTets += input->GetCellType(c) == VTK_TETRA ? 1 : 0;
+  }
+  tets.Tetrahedra.reserve(4 * static_cast<std::size_t>(nTets));
+  tetCell.reserve(static_cast<std::size_t>(nTets));
   vtkNew<vtkIdList> ids;
   vtkNew<vtkGenericCell> lockedCell;
-  for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+  for (vtkIdType c = 0; c < nCells; ++c)
   {
     const int type = input->GetCellType(c);
-    input->GetCellPoints(c, ids);
+    vtkIdType npts;
+    const vtkIdType* pts;
+    input->GetCellPoints(c, npts, pts, ids);
     if (type == VTK_TETRA)
     {
-      for (vtkIdType k = 0; k < 4; ++k)
-      {
-        tets.Tetrahedra.push_back(ids->GetId(k));
-      }
+      tets.Tetrahedra.insert(tets.Tetrahedra.end(), pts, pts + 4);
       tetCell.push_back(c);
     }
     else if (type == VTK_HEXAHEDRON || type == VTK_WEDGE || type == VTK_PYRAMID ||
@@ -330,9 +337,9 @@ bool SplitVolume(vtkUnstructuredGrid* input, ar::TetMesh& tets, ar::CavityOption
     {
       // Kept as they are: other 3-D cells, and boundary-patch faces (2-D
       // cells with a PatchId, as the solver writers take them).
-      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      for (vtkIdType k = 0; k < npts; ++k)
       {
-        options.LockedNodes[ids->GetId(k)] = 1;
+        options.LockedNodes[pts[k]] = 1;
       }
       otherCell.push_back(c);
       // The 3-D ones (e.g. near-wall layers) bound a region S is trimmed at.

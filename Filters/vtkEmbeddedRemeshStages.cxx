@@ -28,6 +28,7 @@
 #include "vtkIdTypeArray.h"
 #include "vtkMath.h"
 #include "vtkMultiProcessController.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPThreadLocalObject.h"
@@ -154,6 +155,8 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
   const vtkIdType blockSize = 20000;
   const vtkIdType nBlocks = (n + blockSize - 1) / blockSize;
   std::vector<vtkEmbeddedRemeshQuality> partial(static_cast<std::size_t>(nBlocks));
+  // The output's points are doubles (the drivers make them so): read in place.
+  vtkDoubleArray* xyz = vtkDoubleArray::SafeDownCast(output->GetPoints()->GetData());
   auto work = [&](vtkIdType w) {
     vtkEmbeddedRemeshQuality& sums = partial[w];
     const vtkIdType first = w * blockSize, last = std::min(n, first + blockSize);
@@ -190,9 +193,17 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
       }
       for (vtkIdType k = 0; k < npts; ++k)
       {
-        output->GetPoint(pts[type == VTK_VOXEL ? voxelToHexahedron[k] : k], &x[3 * k]);
+        const vtkIdType p = pts[type == VTK_VOXEL ? voxelToHexahedron[k] : k];
+        if (xyz)
+        {
+          std::copy(xyz->GetPointer(3 * p), xyz->GetPointer(3 * p) + 3, &x[3 * k]);
+        }
+        else
+        {
+          output->GetPoint(p, &x[3 * k]);
+        }
       }
-      const ar::CellQuality q = ar::ComputeCellQuality(shape, x);
+      const ar::CellQuality q = ar::ComputeCellQuality(shape, x, false); // (the scaled Jacobian is not reported)
       minAngle->SetValue(c, q.MinDihedralAngle);
       maxAngle->SetValue(c, q.MaxDihedralAngle);
       aspect->SetValue(c, q.AspectRatio);
@@ -290,11 +301,31 @@ void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
 
 double vtkEmbeddedRemeshOutputSizeAtSurface(const ar::CavityRemesh& r)
 {
-  std::vector<double> lv =
-    ar::LongestEdgeAtNodes(r.Mesh.Points.data(), r.Mesh.Points.size() / 3, r.Mesh.Tetrahedra.data(),
-      r.Mesh.NumberOfTetrahedra());
-  ar::AccumulateLongestEdges(ar::CellShape::Wedge, r.Mesh.Points.data(), r.Prisms.data(), r.Prisms.size() / 6, lv);
-  ar::AccumulateLongestEdges(ar::CellShape::Pyramid, r.Mesh.Points.data(), r.Pyramids.data(), r.Pyramids.size() / 5, lv);
+  // l_v is read at S's nodes only: the cells without one of them (nearly
+  // all of a large mesh) cannot change it and are skipped. (A maximum does
+  // not depend on the order it is taken in: the value is the whole mesh's.)
+  const std::size_t nPoints = r.Mesh.Points.size() / 3;
+  std::vector<char> atSurface(nPoints, 0);
+  for (const std::int64_t v : r.Surface)
+  {
+    atSurface[v] = 1;
+  }
+  std::vector<double> lv(nPoints, 0.0);
+  auto accumulate = [&](ar::CellShape shape, const std::vector<std::int64_t>& cells) {
+    const std::size_t nodes = static_cast<std::size_t>(ar::NumberOfNodes(shape));
+    std::vector<std::int64_t> touching;
+    for (std::size_t c = 0; c + nodes <= cells.size(); c += nodes)
+    {
+      if (std::any_of(&cells[c], &cells[c] + nodes, [&](std::int64_t v) { return atSurface[v] != 0; }))
+      {
+        touching.insert(touching.end(), &cells[c], &cells[c] + nodes);
+      }
+    }
+    ar::AccumulateLongestEdges(shape, r.Mesh.Points.data(), touching.data(), touching.size() / nodes, lv);
+  };
+  accumulate(ar::CellShape::Tetrahedron, r.Mesh.Tetrahedra);
+  accumulate(ar::CellShape::Wedge, r.Prisms);
+  accumulate(ar::CellShape::Pyramid, r.Pyramids);
   return ar::MedianAtNodes(lv, r.Surface.data(), r.Surface.size());
 }
 
@@ -909,6 +940,17 @@ vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARFieldTransfer::
   const std::vector<vtkIdType>& cellSource)
 {
   vtkEmbeddedRemeshNewTuples n;
+  // Only what a field needs is located: the new cells when the output has
+  // cell arrays to fill, the new points when it has point arrays or needs
+  // them as the cells' starts. (A mesh with point fields only, the usual
+  // solution, has a million new cells at 1e6 tetrahedra: they took most of
+  // the interpolation's time for nothing.)
+  const bool cells = output->GetCellData()->GetNumberOfArrays() > 0;
+  const bool points = cells || output->GetPointData()->GetNumberOfArrays() > 0;
+  if (!points)
+  {
+    return n;
+  }
   const vtkIdType nOut = output->GetNumberOfPoints();
   std::vector<vtkIdType> queryOf(nOut, -1); // new point -> its query
   for (vtkIdType i = 0; i < nOut; ++i)
@@ -928,6 +970,10 @@ vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARFieldTransfer::
   n.PointIn.resize(n.Points.size());
   n.Weights.resize(4 * n.Points.size());
   locator.Locate(nNewPoints, where.data(), nullptr, n.PointIn.data(), n.Weights.data());
+  if (!cells)
+  {
+    return n;
+  }
 
   // The new cells' centres, each walked to from the cell at one of its
   // corners (a new point's, else the first corner's startOf).

@@ -267,7 +267,10 @@ struct vtkEmbeddedRemeshNewTuples
 };
 /// `isNew[i]`: output point i needs locating; `startOf[i]`: for a point that
 /// does not, a locator cell at it (-1: none) from which its cells' centres
-/// are walked; `cellSource`: the output cells' sources (-1: new).
+/// are walked; `cellSource`: the output cells' sources (-1: new). The output's
+/// point and cell data must be allocated: the new cells are located only when
+/// it has cell arrays, the new points only when it has point or cell arrays
+/// (Cells and Points stay empty otherwise).
 vtkEmbeddedRemeshNewTuples vtkEmbeddedRemeshLocateNew(const vtkARFieldTransfer::TetLocator& locator,
   vtkUnstructuredGrid* output, const std::vector<char>& isNew, const std::vector<vtkIdType>& startOf,
   const std::vector<vtkIdType>& cellSource);

@@ -227,7 +227,7 @@ double CellVolume(CellShape shape, const double* points)
   return six / 6.0;
 }
 
-CellQuality ComputeCellQuality(CellShape shape, const double* points)
+CellQuality ComputeCellQuality(CellShape shape, const double* points, bool scaledJacobian)
 {
   CellQuality q;
   double angles[12], jacobians[8];
@@ -237,8 +237,11 @@ CellQuality ComputeCellQuality(CellShape shape, const double* points)
   q.MaxDihedralAngle = *std::max_element(angles, angles + nEdges);
   CellCornerJacobians(shape, points, jacobians, false);
   q.MinCornerJacobian = *std::min_element(jacobians, jacobians + nNodes);
-  CellCornerJacobians(shape, points, jacobians, true);
-  q.MinScaledJacobian = *std::min_element(jacobians, jacobians + nNodes);
+  if (scaledJacobian)
+  {
+    CellCornerJacobians(shape, points, jacobians, true);
+    q.MinScaledJacobian = *std::min_element(jacobians, jacobians + nNodes);
+  }
   q.AspectRatio = CellAspectRatio(shape, points);
   return q;
 }

@@ -95,8 +95,9 @@ double CellAspectRatio(CellShape shape, const double* points);
 /// quads are not planar.
 double CellVolume(CellShape shape, const double* points);
 
-/// All of the above, summarised.
-CellQuality ComputeCellQuality(CellShape shape, const double* points);
+/// All of the above, summarised; without `scaledJacobian` MinScaledJacobian
+/// is not computed (it stays 0), for callers that do not report it.
+CellQuality ComputeCellQuality(CellShape shape, const double* points, bool scaledJacobian = true);
 }
 
 #endif

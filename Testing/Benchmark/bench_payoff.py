@@ -4,7 +4,7 @@ ran on both, and what does it cost?
 
     pvpython Testing/Benchmark/bench_payoff.py [--case NAME] [--work DIR]
              [--refine F1,F2,...] [--cycles N] [--layers] [--adapted-end T]
-             [--lts]
+             [--lts] [--steady-tol F]
 
 --case      a case of Data/make_validation_case.py (default wedge10Ma3, the
             2-D Mach 3 wedge; cone15Ma3 is the 3-D cone)
@@ -32,6 +32,9 @@ ran on both, and what does it cost?
             for the adapted cycles, which inherit the source's fvSchemes).
             Every solver log must say "Using LTS"; a --work holding cases
             of the other time scheme is refused
+--steady-tol  p's rms change between writes, as a fraction of its range,
+            under which the solution counts as steady (default 1e-3,
+            make_validation_case.STEADY_RMS)
 
 Every mesh is solved by rhoCentralFoam with the case's settings (Tadmor
 flux, Minmod limiters, adjustTimeStep at the case's maxCo, serial; with
@@ -46,6 +49,7 @@ shock angle (mean over the stations of the angle of the rise's midpoint
 seen from the tip) against theory.  The cost: the solver's CPU seconds
 (ExecutionTime) until the solution is steady, i.e. from the first write
 after which p's rms change between writes stays under 0.1 % of its range
+(--steady-tol)
 (make_validation_case.steady_time), and in all.
 
 The table compares each adapted mesh with the uniform meshes interpolated
@@ -121,7 +125,7 @@ def exact_lines(c, grid):
     return origins, normals, half, beta, angle
 
 
-def measure(case, c, lts):
+def measure(case, c, lts, tol=mvc.STEADY_RMS):
     if not solved(case, lts):
         sys.exit("bench_payoff.py: %s was not solved to its end" % case)
     grid, t = read_latest(case)
@@ -132,7 +136,7 @@ def measure(case, c, lts):
     r = shock_measure.measure(grid, origins, normals, half_length=half, states=states)
     summ = shock_measure.summary(r)
     angles = [angle(x) for x, ok in zip(r["points"], r["valid"]) if ok]
-    settled, cpu, clock, _ = mvc.steady_time(case)
+    settled, cpu, clock, _ = mvc.steady_time(case, tol)
     hist = mvc.solver_history(case)
     steps = len([h for h in hist if h[0] <= settled * (1 + 1e-9)]) if settled is not None else None
     from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -184,6 +188,7 @@ def main():
     ap.add_argument("--layers", action="store_true")
     ap.add_argument("--adapted-end", type=float)
     ap.add_argument("--lts", action="store_true")
+    ap.add_argument("--steady-tol", type=float, default=mvc.STEADY_RMS)
     ap.add_argument("--plugin", default=os.environ.get("AR_PLUGIN", os.path.join(
         ROOT, "build", "lib", "paraview-5.11", "plugins", "AdaptiveRedistribution", "AdaptiveRedistribution.so")))
     a = ap.parse_args()
@@ -202,7 +207,7 @@ def main():
                   flush=True)
             run(["python3", os.path.join(ROOT, "Data", "make_validation_case.py"), a.case, case + ".vtu",
                  "--keep", case, "--refine", "%g" % f] + lts, case + ".log")
-        rows.append(("uniform x%g" % f, measure(case, c, a.lts)))
+        rows.append(("uniform x%g" % f, measure(case, c, a.lts, a.steady_tol)))
     if a.lts:
         end = int(a.adapted_end or mvc.LTS["iterations"])
         control = mvc.lts_control(c, end)
@@ -228,7 +233,7 @@ def main():
                  "--plugin", a.plugin], target + ".log")
         for k in range(1, a.cycles + 1):
             rows.append(("adapted %s, cycle %d" % (label, k),
-                         measure(os.path.join(target, "cycle%d" % k), c, a.lts)))
+                         measure(os.path.join(target, "cycle%d" % k), c, a.lts, a.steady_tol)))
     uniform = [r for n, r in rows if n.startswith("uniform")]
     un, ut = [r["nodes"] for r in uniform], [r["thickness"] for r in uniform]
     uc = [r["cpu_steady"] for r in uniform]
@@ -257,7 +262,8 @@ def main():
             "%d" % r["steps_steady"] if r["steps_steady"] is not None else "-",
             "%.0f" % r["cpu_steady"] if r["cpu_steady"] is not None else "-", "%.2f" % cr if cr else "",
             same, r["cpu_total"], r["end_time"]))
-    out += ["", "Targets at equal node count: thickness ratio <= 0.5, CPU-to-steady ratio <= 2, "
+    out += ["", "Steady: p's rms change between writes under %g of its range from then on. " % a.steady_tol
+            + "Targets at equal node count: thickness ratio <= 0.5, CPU-to-steady ratio <= 2, "
             "angle within 0.5 deg. Adapted solves start from the interpolated solution (endTime %g); "
             "the uniform ones from the free stream (endTime %g)." % (end, mvc.LTS["iterations"] if a.lts else c["end"])]
     text = "\n".join(out)

@@ -4,10 +4,12 @@ ran on both, and what does it cost?
 
     pvpython Testing/Benchmark/bench_payoff.py [--case NAME] [--work DIR]
              [--refine F1,F2,...] [--cycles N] [--layers] [--adapted-end T]
+             [--lts] [--steady-tol F]
 
 --case      a case of Data/make_validation_case.py (default wedge10Ma3, the
             2-D Mach 3 wedge; cone15Ma3 is the 3-D cone)
---work      where the cases are made and kept (default /tmp/ar_payoff/NAME);
+--work      where the cases are made and kept (default /tmp/ar_payoff/NAME,
+            with --lts /tmp/ar_payoff/NAME_lts);
             a case already there and solved is reused, so a second run only
             measures
 --refine    the uniform meshes: the case's mesh refined by each factor
@@ -18,10 +20,25 @@ ran on both, and what does it cost?
 --layers    also the adapted mesh with layers (LayerType Prisms: prism
             layers in 3-D, layers of hexahedra along the shock in 2-D)
 --adapted-end  endTime of the adapted cases' solves (default half the case's:
-            they start from the interpolated solution)
+            they start from the interpolated solution; with --lts iterations,
+            default the uniform meshes' number: the shock, where the cells
+            are small, settles in no fewer iterations than there)
+--lts       local time stepping, rhoCentralFoam's steady mode, on every mesh:
+            ddtSchemes localEuler, maxCo half the case's, rDeltaTSmoothingCoeff,
+            deltaT 1 (the time is the iteration count), a fixed number of
+            iterations written at a fixed interval (make_validation_case.LTS,
+            lts_control; make_validation_case.py --lts for the uniform
+            meshes, the same controlDict entries in adapt_case.py's config
+            for the adapted cycles, which inherit the source's fvSchemes).
+            Every solver log must say "Using LTS"; a --work holding cases
+            of the other time scheme is refused
+--steady-tol  p's rms change between writes, as a fraction of its range,
+            under which the solution counts as steady (default 1e-3,
+            make_validation_case.STEADY_RMS)
 
 Every mesh is solved by rhoCentralFoam with the case's settings (Tadmor
-flux, Minmod limiters, adjustTimeStep at the case's maxCo, serial).  On each
+flux, Minmod limiters, adjustTimeStep at the case's maxCo, serial; with
+--lts every cell's own step at half that maxCo).  On each
 solution the shock is measured along lines normal to the EXACT shock
 (theta-beta-Mach plane through the wedge's tip; the Taylor-Maccoll cone on
 the 45-degree meridian of the quarter cone) at 12 stations from 0.35 (the
@@ -32,6 +49,7 @@ shock angle (mean over the stations of the angle of the rise's midpoint
 seen from the tip) against theory.  The cost: the solver's CPU seconds
 (ExecutionTime) until the solution is steady, i.e. from the first write
 after which p's rms change between writes stays under 0.1 % of its range
+(--steady-tol)
 (make_validation_case.steady_time), and in all.
 
 The table compares each adapted mesh with the uniform meshes interpolated
@@ -107,7 +125,9 @@ def exact_lines(c, grid):
     return origins, normals, half, beta, angle
 
 
-def measure(case, c):
+def measure(case, c, lts, tol=mvc.STEADY_RMS):
+    if not solved(case, lts):
+        sys.exit("bench_payoff.py: %s was not solved to its end" % case)
     grid, t = read_latest(case)
     origins, normals, half, beta, angle = exact_lines(c, grid)
     # a cone's p keeps rising behind the shock (Taylor-Maccoll): the exact
@@ -116,8 +136,9 @@ def measure(case, c):
     r = shock_measure.measure(grid, origins, normals, half_length=half, states=states)
     summ = shock_measure.summary(r)
     angles = [angle(x) for x, ok in zip(r["points"], r["valid"]) if ok]
-    settled, cpu, clock, _ = mvc.steady_time(case)
+    settled, cpu, clock, _ = mvc.steady_time(case, tol)
     hist = mvc.solver_history(case)
+    steps = len([h for h in hist if h[0] <= settled * (1 + 1e-9)]) if settled is not None else None
     from vtkmodules.util.numpy_support import vtk_to_numpy
     types = vtk_to_numpy(grid.GetCellTypesArray())
     return dict(case=case, nodes=grid.GetNumberOfPoints(), cells=grid.GetNumberOfCells(),
@@ -125,7 +146,8 @@ def measure(case, c):
                 thickness=summ.get("thickness_median", float("nan")), lines=summ["valid"],
                 angle_error=(float(np.mean(angles)) - beta) if angles else float("nan"),
                 steady_time=settled, cpu_steady=cpu, clock_steady=clock,
-                cpu_total=hist[-1][1] if hist else float("nan"), steps=len(hist), end_time=t)
+                cpu_total=hist[-1][1] if hist else float("nan"), steps=len(hist), steps_steady=steps,
+                end_time=t)
 
 
 def run(cmd, log):
@@ -135,9 +157,16 @@ def run(cmd, log):
         sys.exit("bench_payoff.py: %s failed (exit %d), see %s" % (" ".join(cmd[:3]), r.returncode, log))
 
 
-def solved(case):
+def solved(case, lts):
+    """Whether the case was solved to its end; exits if it was, with the
+    other time scheme than `lts` asks for."""
     log = os.path.join(case, "log.rhoCentralFoam")
-    return os.path.isfile(log) and "\nEnd" in open(log).read()
+    if not (os.path.isfile(log) and "\nEnd" in open(log).read()):
+        return False
+    if ("\nUsing LTS" in open(log).read()) != lts:
+        sys.exit("bench_payoff.py: %s was solved %s local time stepping: use another --work"
+                 % (case, "with" if not lts else "without"))
+    return True
 
 
 def interp(nodes, xs, ys):
@@ -158,11 +187,13 @@ def main():
     ap.add_argument("--cycles", type=int, default=2)
     ap.add_argument("--layers", action="store_true")
     ap.add_argument("--adapted-end", type=float)
+    ap.add_argument("--lts", action="store_true")
+    ap.add_argument("--steady-tol", type=float, default=mvc.STEADY_RMS)
     ap.add_argument("--plugin", default=os.environ.get("AR_PLUGIN", os.path.join(
         ROOT, "build", "lib", "paraview-5.11", "plugins", "AdaptiveRedistribution", "AdaptiveRedistribution.so")))
     a = ap.parse_args()
     c = mvc.CASES[a.case]
-    work = os.path.abspath(a.work or os.path.join("/tmp/ar_payoff", a.case))
+    work = os.path.abspath(a.work or os.path.join("/tmp/ar_payoff", a.case + ("_lts" if a.lts else "")))
     os.makedirs(work, exist_ok=True)
     factors = sorted(float(f) for f in a.refine.split(","))
     if 1.0 not in factors:
@@ -170,22 +201,29 @@ def main():
     rows = []
     for f in factors:
         case = os.path.join(work, "uniform_%g" % f)
-        if not solved(case):
-            print("[payoff] uniform mesh x%g: make_validation_case.py --refine %g" % (f, f), flush=True)
+        if not solved(case, a.lts):
+            lts = ["--lts"] if a.lts else []
+            print("[payoff] uniform mesh x%g: make_validation_case.py --refine %g %s" % (f, f, " ".join(lts)),
+                  flush=True)
             run(["python3", os.path.join(ROOT, "Data", "make_validation_case.py"), a.case, case + ".vtu",
-                 "--keep", case, "--refine", "%g" % f], case + ".log")
-        rows.append(("uniform x%g" % f, measure(case, c)))
-    end = a.adapted_end or 0.5 * c["end"]
+                 "--keep", case, "--refine", "%g" % f] + lts, case + ".log")
+        rows.append(("uniform x%g" % f, measure(case, c, a.lts, a.steady_tol)))
+    if a.lts:
+        end = int(a.adapted_end or mvc.LTS["iterations"])
+        control = mvc.lts_control(c, end)
+    else:
+        end = a.adapted_end or 0.5 * c["end"]
+        control = {"endTime": end}
     variants = [("tetrahedra" if c["kind"] == "cone" else "triangles", "adapted", {})]
     if a.layers:
         variants.append(("layers", "layers", {"LayerType": "Prisms"}))
     for label, name, props in variants:
         target = os.path.join(work, name)
         last = os.path.join(target, "cycle%d" % a.cycles)
-        if not solved(last):
+        if not solved(last, a.lts):
             cfg = os.path.join(work, name + ".json")
             with open(cfg, "w") as fcfg:
-                json.dump({"AdaptToShocks": props, "controlDict": {"endTime": end}}, fcfg)
+                json.dump({"AdaptToShocks": props, "controlDict": control}, fcfg)
             if os.path.isdir(target):
                 import shutil
                 shutil.rmtree(target)
@@ -194,16 +232,20 @@ def main():
                  os.path.join(work, "uniform_1"), target, "--cycles", str(a.cycles), "--solve", "--config", cfg,
                  "--plugin", a.plugin], target + ".log")
         for k in range(1, a.cycles + 1):
-            rows.append(("adapted %s, cycle %d" % (label, k), measure(os.path.join(target, "cycle%d" % k), c)))
+            rows.append(("adapted %s, cycle %d" % (label, k),
+                         measure(os.path.join(target, "cycle%d" % k), c, a.lts, a.steady_tol)))
     uniform = [r for n, r in rows if n.startswith("uniform")]
     un, ut = [r["nodes"] for r in uniform], [r["thickness"] for r in uniform]
     uc = [r["cpu_steady"] for r in uniform]
     beta = mvc.theory(c)[0]
-    out = ["# Payoff: %s (%s, theory %.3f deg)" % (a.case, c["kind"], beta), "",
+    scheme = ("local time stepping (localEuler, maxCo %(maxCo)s, rDeltaTSmoothingCoeff %(rDeltaTSmoothingCoeff)s; "
+              "t is the iteration)" % mvc.lts_control(c) if a.lts
+              else "Euler in time, adjustTimeStep at maxCo %g" % c["maxco"])
+    out = ["# Payoff: %s (%s, theory %.3f deg; %s)" % (a.case, c["kind"], beta, scheme), "",
            "| mesh | nodes | cells | 10-90 % thickness | vs uniform at equal nodes | angle - theory (deg) "
-           "| steady at t | CPU s to steady | vs uniform at equal nodes | uniform at equal thickness: nodes, "
-           "CPU s to steady | CPU s in all (to t) |",
-           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+           "| steady at t | steps to steady | CPU s to steady | vs uniform at equal nodes "
+           "| uniform at equal thickness: nodes, CPU s to steady | CPU s in all (to t) |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for name, r in rows:
         adapted = not name.startswith("uniform")
         tr = r["thickness"] / interp(r["nodes"], un, ut) if adapted else None
@@ -214,14 +256,16 @@ def main():
             # in the thickness (extrapolated past the finest uniform mesh)
             same = "%d, %.0f%s" % (interp(r["thickness"], ut, un), interp(r["thickness"], ut, uc),
                                    " (extrapolated)" if r["thickness"] < min(ut) else "")
-        out.append("| %s | %d | %d | %.4g (%d lines) | %s | %+.2f | %s | %s | %s | %s | %.0f (%g) |" % (
+        out.append("| %s | %d | %d | %.4g (%d lines) | %s | %+.2f | %s | %s | %s | %s | %s | %.0f (%g) |" % (
             name, r["nodes"], r["cells"], r["thickness"], r["lines"], "%.2f" % tr if tr else "",
             r["angle_error"], "%g" % r["steady_time"] if r["steady_time"] is not None else "not steady",
+            "%d" % r["steps_steady"] if r["steps_steady"] is not None else "-",
             "%.0f" % r["cpu_steady"] if r["cpu_steady"] is not None else "-", "%.2f" % cr if cr else "",
             same, r["cpu_total"], r["end_time"]))
-    out += ["", "Targets at equal node count: thickness ratio <= 0.5, CPU-to-steady ratio <= 2, "
+    out += ["", "Steady: p's rms change between writes under %g of its range from then on. " % a.steady_tol
+            + "Targets at equal node count: thickness ratio <= 0.5, CPU-to-steady ratio <= 2, "
             "angle within 0.5 deg. Adapted solves start from the interpolated solution (endTime %g); "
-            "the uniform ones from the free stream (endTime %g)." % (end, c["end"])]
+            "the uniform ones from the free stream (endTime %g)." % (end, mvc.LTS["iterations"] if a.lts else c["end"])]
     text = "\n".join(out)
     print(text)
     with open(os.path.join(work, "payoff.md"), "w") as f:

@@ -366,32 +366,19 @@ mixture
         write(os.path.join(case, "0", name), header(cls, name, "0")
               + "dimensions      %s;\ninternalField   uniform %s;\nboundaryField\n{\n%s\n}\n"
               % (dims, value, "\n".join(bcs)))
+    if lts:
+        # local time stepping (ddtSchemes localEuler): the time is the iteration count
+        stepping = lts_control(c)
+    else:
+        stepping = {"endTime": "%g" % c["end"],
+                    "deltaT": "1e-06",  # first step only: adjustTimeStep takes over
+                    "writeControl": "adjustableRunTime", "writeInterval": "%g" % c["write"],
+                    "adjustTimeStep": "yes", "maxCo": "%g" % c["maxco"]}
     write(os.path.join(case, "system", "controlDict"), header("dictionary", "controlDict", "system") + """
 application     rhoCentralFoam;
 startFrom       startTime;
 startTime       0;
 stopAt          endTime;
-endTime         %g;
-deltaT          1e-06;      // first step only: adjustTimeStep takes over
-writeControl    adjustableRunTime;
-writeInterval   %g;
-purgeWrite      0;
-writeFormat     ascii;
-writePrecision  8;
-writeCompression off;
-timeFormat      general;
-timePrecision   6;
-runTimeModifiable false;
-adjustTimeStep  yes;
-maxCo           %g;
-maxDeltaT       1;
-""" % (c["end"], c["write"], c["maxco"]))
-    if lts:
-        write(os.path.join(case, "system", "controlDict"), header("dictionary", "controlDict", "system") + """
-application     rhoCentralFoam;
-startFrom       startTime;
-startTime       0;
-stopAt          endTime;
 purgeWrite      0;
 writeFormat     ascii;
 writePrecision  8;
@@ -400,8 +387,7 @@ timeFormat      general;
 timePrecision   6;
 runTimeModifiable false;
 maxDeltaT       1;
-// local time stepping (ddtSchemes localEuler): the time is the iteration count
-""" + "".join("%-15s %s;\n" % kv for kv in lts_control(c).items()))
+""" + "".join("%-15s %s;\n" % kv for kv in stepping.items()))
     if c["order"] == 2:
         recon = ("    reconstruct(rho) Minmod;\n    reconstruct(U)   MinmodV;\n"
                  "    reconstruct(T)   Minmod;\n")

@@ -26,7 +26,6 @@
 #include <cstring>
 #include <numeric>
 #include <sstream>
-#include <unordered_map>
 
 namespace ar
 {
@@ -163,6 +162,38 @@ void ClearPinches(const std::int64_t* tris, std::size_t nPoints, std::size_t nTr
   }
 }
 
+/// The triangles t of `tris` (3 node ids each) with use(t) joined where they
+/// share an edge; with `border`, the nodes of the edges only one of them uses
+/// flagged there.
+template <typename Use>
+UnionFind JoinByEdges(const std::int64_t* tris, std::size_t nTris, Use use, std::vector<char>* border)
+{
+  std::vector<std::array<std::int64_t, 3>> edges; // (lower node, higher node, triangle)
+  edges.reserve(3 * nTris);
+  for (std::size_t t = 0; t < nTris; ++t)
+  {
+    for (int k = 0; k < 3 && use(t); ++k)
+    {
+      const std::int64_t a = tris[3 * t + k], b = tris[3 * t + (k + 1) % 3];
+      edges.push_back({ std::min(a, b), std::max(a, b), static_cast<std::int64_t>(t) });
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  UnionFind joined(nTris);
+  for (std::size_t e = 0, next = 0; e < edges.size(); e = next)
+  {
+    for (next = e + 1; next < edges.size() && edges[next][0] == edges[e][0] && edges[next][1] == edges[e][1]; ++next)
+    {
+      joined.Union(edges[e][2], edges[next][2]);
+    }
+    if (border && next == e + 1)
+    {
+      (*border)[edges[e][0]] = (*border)[edges[e][1]] = 1;
+    }
+  }
+  return joined;
+}
+
 /// Drops the pieces of S (edge-connected, keep[t] = 1) that have no
 /// interior point, every point on the piece's border, apart from the
 /// largest piece: a strip or a lone triangle that the trim cut off beside
@@ -173,37 +204,8 @@ void ClearPinches(const std::int64_t* tris, std::size_t nPoints, std::size_t nTr
 /// degrees there).
 void DropBorderOnlyPieces(const std::int64_t* tris, std::size_t nPoints, std::size_t nTris, std::vector<char>& keep)
 {
-  auto key = [&](std::int64_t a, std::int64_t b) {
-    return static_cast<std::uint64_t>(std::min(a, b)) * nPoints + static_cast<std::uint64_t>(std::max(a, b));
-  };
-  // Per edge of the kept triangles: the first triangle using it and the count.
-  std::unordered_map<std::uint64_t, std::pair<std::int64_t, int>> edges;
-  UnionFind pieces(nTris);
-  for (std::size_t t = 0; t < nTris; ++t)
-  {
-    for (int k = 0; k < 3 && keep[t]; ++k)
-    {
-      const auto [it, added] = edges.emplace(key(tris[3 * t + k], tris[3 * t + (k + 1) % 3]),
-        std::make_pair(static_cast<std::int64_t>(t), 0));
-      ++it->second.second;
-      if (!added)
-      {
-        pieces.Union(it->second.first, static_cast<std::int64_t>(t));
-      }
-    }
-  }
   std::vector<char> onBorder(nPoints, 0);
-  for (std::size_t t = 0; t < nTris; ++t)
-  {
-    for (int k = 0; k < 3 && keep[t]; ++k)
-    {
-      const std::int64_t a = tris[3 * t + k], b = tris[3 * t + (k + 1) % 3];
-      if (edges[key(a, b)].second == 1)
-      {
-        onBorder[a] = onBorder[b] = 1;
-      }
-    }
-  }
+  UnionFind pieces = JoinByEdges(tris, nTris, [&](std::size_t t) { return keep[t] != 0; }, &onBorder);
   std::vector<char> hasInterior(nTris, 0);
   std::vector<std::int64_t> size(nTris, 0);
   std::int64_t largest = -1;
@@ -1151,29 +1153,8 @@ void CavityRun::AddHolePoints()
   // order made TetGen's carving, and with it the refill's last flips, differ
   // between a serial run and a distributed one.
   const std::size_t nTriangles = keptBeyond.size();
-  std::vector<std::array<std::int64_t, 3>> edges; // (lower node, higher node, triangle)
-  edges.reserve(3 * nTriangles);
-  for (std::size_t t = 0; t < nTriangles; ++t)
-  {
-    if (keptBeyond[t] < 0)
-    {
-      continue;
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      const std::int64_t a = plc.Triangles[3 * t + k], b = plc.Triangles[3 * t + (k + 1) % 3];
-      edges.push_back({ std::min(a, b), std::max(a, b), static_cast<std::int64_t>(t) });
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  UnionFind patches(nTriangles);
-  for (std::size_t e = 1; e < edges.size(); ++e)
-  {
-    if (edges[e][0] == edges[e - 1][0] && edges[e][1] == edges[e - 1][1])
-    {
-      patches.Union(edges[e][2], edges[e - 1][2]);
-    }
-  }
+  UnionFind patches =
+    JoinByEdges(plc.Triangles.data(), nTriangles, [&](std::size_t t) { return keptBeyond[t] >= 0; }, nullptr);
   std::vector<char> holeDone(nTriangles, 0);
   for (std::size_t t = 0; t < nTriangles; ++t)
   {

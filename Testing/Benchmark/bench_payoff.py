@@ -3,7 +3,8 @@ than on a uniformly refined mesh of the same node count, after the solver
 ran on both, and what does it cost?
 
     pvpython Testing/Benchmark/bench_payoff.py [--case NAME] [--work DIR]
-             [--refine F1,F2,...] [--cycles N] [--layers] [--adapted-end T]
+             [--refine F1,F2,...] [--cycles N] [--layers | --layers-only]
+             [--adapted-end T]
              [--lts] [--steady-tol F]
 
 --case      a case of Data/make_validation_case.py (default wedge10Ma3, the
@@ -19,6 +20,7 @@ ran on both, and what does it cost?
             --solve on the original solution
 --layers    also the adapted mesh with layers (LayerType Prisms: prism
             layers in 3-D, layers of hexahedra along the shock in 2-D)
+--layers-only  the adapted mesh with layers only, not the tetrahedral one
 --adapted-end  endTime of the adapted cases' solves (default half the case's:
             they start from the interpolated solution; with --lts iterations,
             default the uniform meshes' number: the shock, where the cells
@@ -186,6 +188,7 @@ def main():
     ap.add_argument("--refine", default="1,1.1,1.25,1.5,1.75,2")
     ap.add_argument("--cycles", type=int, default=2)
     ap.add_argument("--layers", action="store_true")
+    ap.add_argument("--layers-only", action="store_true")
     ap.add_argument("--adapted-end", type=float)
     ap.add_argument("--lts", action="store_true")
     ap.add_argument("--steady-tol", type=float, default=mvc.STEADY_RMS)
@@ -215,7 +218,9 @@ def main():
         end = a.adapted_end or 0.5 * c["end"]
         control = {"endTime": end}
     variants = [("tetrahedra" if c["kind"] == "cone" else "triangles", "adapted", {})]
-    if a.layers:
+    if a.layers_only:
+        variants = []
+    if a.layers or a.layers_only:
         variants.append(("layers", "layers", {"LayerType": "Prisms"}))
     for label, name, props in variants:
         target = os.path.join(work, name)

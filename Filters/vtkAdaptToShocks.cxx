@@ -778,10 +778,13 @@ bool AdaptRun::Remesh()
   remesh->SetSurfaceSizeFactor(self->GetSurfaceSizeFactor());
   remesh->SetLayerType(self->GetLayerType());
   remesh->SetNumberOfLayers(self->GetNumberOfLayers());
-  // The prism stack spans the captured shock: half its thickness per side,
-  // unless TotalThickness is given.
+  // The prism stack spans half the captured shock, a quarter of its
+  // thickness per side, unless TotalThickness is given: the solver's shock
+  // on the layers spans about seven of them (cone15Ma3), so thinner layers,
+  // not a taller stack, make it sharper (README, the payoff).
   shockThickness = SurfacesShockThickness();
-  remesh->SetTotalThickness(self->GetTotalThickness() > 0.0 ? self->GetTotalThickness() : 0.5 * shockThickness);
+  remesh->SetTotalThickness(self->GetTotalThickness() > 0.0 ? self->GetTotalThickness() : 0.25 * shockThickness);
+  remesh->SetGrowthRatio(self->GetGrowthRatio());
   remesh->SetRemovalFactor(self->GetRemovalFactor());
   remesh->SetInterpolateFields(self->GetInterpolateFields());
   if (!alone)
@@ -909,6 +912,7 @@ void vtkAdaptToShocks::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LayerType: " << this->LayerType << "\n";
   os << indent << "NumberOfLayers: " << this->NumberOfLayers << "\n";
   os << indent << "TotalThickness: " << this->TotalThickness << "\n";
+  os << indent << "GrowthRatio: " << this->GrowthRatio << "\n";
   os << indent << "RemovalFactor: " << this->RemovalFactor << "\n";
   os << indent << "InterpolateFields: " << this->InterpolateFields << "\n";
 }

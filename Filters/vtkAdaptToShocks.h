@@ -116,13 +116,19 @@ public:
   vtkSetMacro(NumberOfLayers, int);
   vtkGetMacro(NumberOfLayers, int);
   /// With LayerType prisms: the stack's height per side. 0 (the default):
-  /// half the captured shock's thickness, so that the two sides together
-  /// span it (QuadricFit's ShockThickness, the 10-90 % width of p's rise
+  /// a quarter of the captured shock's thickness, so that the two sides
+  /// together span half of it, about where the solver puts the shock on the
+  /// layers (QuadricFit's ShockThickness, the 10-90 % width of p's rise
   /// along the centring lines; the median over the surfaces, in the output's
   /// field data ShockThickness); where no surface measured it, EmbeddedRemesh's
   /// default (half a surface edge). Checked by EmbeddedRemesh.
   vtkSetMacro(TotalThickness, double);
   vtkGetMacro(TotalThickness, double);
+  /// With LayerType prisms: each layer this many times thicker than the one
+  /// below it (EmbeddedRemesh's GrowthRatio); default 1, uniform layers,
+  /// as the shock spreads over several of them. Checked by EmbeddedRemesh.
+  vtkSetMacro(GrowthRatio, double);
+  vtkGetMacro(GrowthRatio, double);
   vtkSetMacro(RemovalFactor, double);
   vtkGetMacro(RemovalFactor, double);
   vtkSetMacro(InterpolateFields, bool);
@@ -157,6 +163,7 @@ private:
   int LayerType = 0;
   int NumberOfLayers = 5;
   double TotalThickness = 0.0;
+  double GrowthRatio = 1.0;
   double RemovalFactor = 3.0;
   bool InterpolateFields = true;
 };

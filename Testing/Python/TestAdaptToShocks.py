@@ -182,7 +182,8 @@ artest.check_valid_mesh("cut by every boundary", cube, o6)
 # rises as tanh(d / delta), whose 10-90 % width is 2 atanh(0.8) delta = 0.137;
 # the measured ShockThickness within a quarter of the input's cell at S (0.11
 # here: the mesh's linear interpolation of the profile over cells that size
-# widens it, to 0.159), the stack half of it per side (spanning the shock), the
+# widens it, to 0.159), the stack a quarter of it per side (the two sides
+# span half the captured shock), its 5 layers uniform (GrowthRatio 1), the
 # first layer a fraction of the input's cell size, every new tetrahedron at
 # least 10 degrees, and the mesh valid. On the OpenFOAM cone, the same rule
 # and the same angle bound.
@@ -190,7 +191,8 @@ exact_width = 2.0 * np.arctanh(0.8) * shock.delta
 for label, source, reference in (("analytic shock", turned, cube), ("cone", cone, src)):
     lay = artest.fetch(AdaptToShocks(Input=source, LayerType=1))
     width, stack = f(lay, "ShockThickness"), f(lay, "LayerStackHeight")
-    good = width > 0 and abs(stack - 0.5 * width) <= 1e-12 * width and f(lay, "MinDihedralAngleNew") >= 10.0 \
+    good = width > 0 and abs(stack - 0.25 * width) <= 1e-12 * width and f(lay, "MinDihedralAngleNew") >= 10.0 \
+        and abs(f(lay, "FirstLayerThicknessUsed") - stack / 5) <= 1e-12 * stack \
         and f(lay, "Prisms") > 0 and f(lay, "FirstLayerThicknessUsed") < 0.3 * f(lay, "InputSizeAtSurface")
     if label == "analytic shock":
         good = good and abs(width - exact_width) <= 0.25 * f(lay, "InputSizeAtSurface")
@@ -200,6 +202,14 @@ for label, source, reference in (("analytic shock", turned, cube), ("cone", cone
              f(lay, "FirstLayerThicknessUsed"), f(lay, "FirstLayerThicknessUsed") / f(lay, "InputSizeAtSurface"),
              f(lay, "Prisms"), f(lay, "MinDihedralAngleNew")))
     artest.check_valid_mesh(label + ", prism layers", reference, lay)
+
+# GrowthRatio reaches EmbeddedRemesh: layer k is first * 1.5^k, the 5 of them
+# summing to the stack.
+lay = artest.fetch(AdaptToShocks(Input=cone, LayerType=1, GrowthRatio=1.5))
+stack, first = f(lay, "LayerStackHeight"), f(lay, "FirstLayerThicknessUsed")
+check(abs(first - stack * 0.5 / (1.5 ** 5 - 1)) <= 1e-12 * stack,
+      "GrowthRatio 1.5: the first layer %.5f of the stack %.5f (expected %.5f)"
+      % (first, stack, stack * 0.5 / (1.5 ** 5 - 1)))
 
 
 # ---- Bad and borderline input.

@@ -72,7 +72,7 @@ int main(int argc, char* argv[])
     sizes.push_back(std::atoi(argv[i]));
   if (sizes.empty())
     sizes = { 30, 55 };
-  std::printf("| mode | input tets | surface triangles | s | setup | removal | cavity | refill (runs) | layers | assembly | new tets (TetGen) | prisms | pyramids + closure tets | new tets/s in TetGen | kept tets | peak RSS MB |\n");
+  std::printf("| mode | input tets | surface triangles | s | setup | removal | cavity | refill (runs, pieces) | layers | assembly | new tets (TetGen) | prisms | pyramids + closure tets | new tets/s in TetGen | kept tets | peak RSS MB |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int n : sizes)
   {
@@ -122,9 +122,9 @@ int main(int argc, char* argv[])
       else
       {
         const auto& s = r.Seconds;
-        std::printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f (%d) | %.2f | %.2f | %zu | %zu | %zu | %.3g | %zu | %.0f |\n",
+        std::printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f (%d, %zu) | %.2f | %.2f | %zu | %zu | %zu | %.3g | %zu | %.0f |\n",
           names[mode], cube.NumberOfTetrahedra(), tris.size() / 3, dt, s.Setup, s.Removal, s.Cavity, s.Refill,
-          r.RefillAttempts, s.Layers, s.Assembly, fresh, prisms, pyramids, fresh / s.Refill, kept, PeakRSSMB());
+          r.RefillAttempts, r.RefillPieces, s.Layers, s.Assembly, fresh, prisms, pyramids, fresh / s.Refill, kept, PeakRSSMB());
       }
       std::fflush(stdout);
       if (ok)

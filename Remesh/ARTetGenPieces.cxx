@@ -42,6 +42,20 @@ private:
   bool BuildPieces(std::vector<ComplexPiece>& pieces);
 
   const double* X(std::int64_t id) const { return &plc.Points[3 * id]; }
+  /// The centroid of the side's triangle moved off it to that side by 1e-4
+  /// of the triangle's size.
+  std::array<double, 3> OffTriangle(std::size_t side) const
+  {
+    const std::int64_t* v = &plc.Triangles[3 * (side / 2)];
+    const double *a = X(v[0]), *b = X(v[1]), *c = X(v[2]);
+    const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+    const double w[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+    const double n[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0] };
+    const double twiceArea = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double offset = (side % 2 == 0 ? 1e-4 : -1e-4) / std::sqrt(twiceArea);
+    return { (a[0] + b[0] + c[0]) / 3.0 + offset * n[0], (a[1] + b[1] + c[1]) / 3.0 + offset * n[1],
+      (a[2] + b[2] + c[2]) / 3.0 + offset * n[2] };
+  }
   bool Meshed(std::size_t side) const
   {
     return (meshed[side / 2] & (side % 2 == 0 ? MeshedFront : MeshedBack)) != 0;
@@ -59,6 +73,8 @@ private:
   std::vector<double> volume;       // per set (meshed ones): the volume it encloses, signed
   std::vector<std::int64_t> pieceOf; // per set (meshed ones): its piece, -1 none yet
   std::vector<std::int64_t> outer;  // the sets enclosing positive volume: one per piece
+  std::vector<std::int64_t> floating;    // the other meshed sets
+  std::vector<std::size_t> floatingSide; // per floating set: its first side
 };
 
 // Around every edge, each side joins the facing side of its angular neighbour.
@@ -245,11 +261,11 @@ double SolidAngle(const double* a, const double* b, const double* c, const doubl
 }
 
 // The floating sets (sheets, inner boundaries) join the smallest outer
-// boundary around them: the one of least volume whose winding number at the
-// centroid of the set's first triangle is about 1.
+// boundary around them: the one of least volume whose winding number is
+// about 1 at the centroid of the set's first triangle (moved off it to the
+// set's side by 1e-4 of the triangle's size).
 bool Splitter::AssignFloatingSets()
 {
-  std::vector<std::int64_t> floating;
   std::vector<std::array<double, 3>> at;
   for (std::size_t t = 0; t < nTri; ++t)
   {
@@ -262,15 +278,10 @@ bool Splitter::AssignFloatingSets()
       }
       pieceOf[r] = -3; // listed
       floating.push_back(r);
-      std::array<double, 3> c = { 0.0, 0.0, 0.0 };
-      for (int k = 0; k < 3; ++k)
-      {
-        for (int d = 0; d < 3; ++d)
-        {
-          c[d] += X(plc.Triangles[3 * t + k])[d] / 3.0;
-        }
-      }
-      at.push_back(c);
+      floatingSide.push_back(s);
+      // Just off the triangle on this side (the triangle may bound an outer
+      // set on its other side, where the winding number would be 1/2).
+      at.push_back(OffTriangle(s));
     }
   }
   if (floating.size() * nTri > 50000000u)
@@ -397,6 +408,19 @@ bool Splitter::BuildPieces(std::vector<ComplexPiece>& pieces)
       if (x[0] >= lo[0] && x[0] <= hi[0] && x[1] >= lo[1] && x[1] <= hi[1] && x[2] >= lo[2] && x[2] <= hi[2])
       {
         c.Holes.insert(c.Holes.end(), x, x + 3);
+      }
+    }
+    // A void of this piece that is another piece (behind a floating set of
+    // this one, e.g. the inside of a closed S): a hole point just inside it,
+    // behind the set's first triangle. (A void not to mesh has its own.)
+    for (std::size_t f = 0; f < floating.size(); ++f)
+    {
+      const std::size_t behind = floatingSide[f] ^ 1u;
+      if (pieceOf[floating[f]] == static_cast<std::int64_t>(order[p]) && Meshed(behind) &&
+        pieceOf[root[behind]] != pieceOf[floating[f]])
+      {
+        const std::array<double, 3> x = OffTriangle(behind);
+        c.Holes.insert(c.Holes.end(), x.begin(), x.end());
       }
     }
   }

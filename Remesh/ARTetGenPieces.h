@@ -51,7 +51,9 @@ struct ComplexPiece
  * regions is in both), their points in the whole's order with their sizes,
  * and the hole points within the piece's bounding box (the others lie
  * outside its convex hull, where TetGen ignores them: each piece carves
- * what the whole would have carved there). Returns the number of pieces;
+ * what the whole would have carved there), plus one inside each void of the
+ * piece that is another piece (just behind a triangle of the void's
+ * boundary, e.g. inside a closed S). Returns the number of pieces;
  * `pieces` is filled only when there are two or more (1: the complex is
  * one piece, or the split is ambiguous).
  */

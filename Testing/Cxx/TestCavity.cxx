@@ -533,7 +533,8 @@ namespace
 {
 /// The whole Kuhn cube as a complex to refill: its boundary faces (outward,
 /// marker 3, the volume behind them) and, as S (marker 2, both sides), its
-/// inner faces on z = 0.5 where `onS(x, y)` holds at their centroid.
+/// inner faces on z = 0.5 where `onS(x, y)` holds at their centroid (or
+/// the inner faces for which `onFace` holds at their corners).
 struct CubeComplex
 {
   ar::PiecewiseLinearComplex Plc;
@@ -541,7 +542,9 @@ struct CubeComplex
   std::size_t SurfaceTriangles = 0;
 };
 
-CubeComplex KuhnCubeComplex(int n, const std::function<bool(double, double)>& onS)
+using FacePredicate = std::function<bool(const std::array<const double*, 3>&)>;
+
+CubeComplex KuhnCubeComplex(int n, const std::function<bool(double, double)>& onS, const FacePredicate& onFace = nullptr)
 {
   const ar::TetMesh cube = KuhnCube(n);
   std::map<std::array<std::int64_t, 3>, std::pair<int, std::array<std::int64_t, 3>>> faces;
@@ -571,7 +574,9 @@ CubeComplex KuhnCubeComplex(int n, const std::function<bool(double, double)>& on
       flat = flat && cube.Points[3 * v + 2] == 0.5;
     }
     const bool boundary = e.second.first == 1;
-    const bool surface = !boundary && flat && onS(centroid[0], centroid[1]);
+    const std::array<const double*, 3> corners = { &cube.Points[3 * tri[0]], &cube.Points[3 * tri[1]],
+      &cube.Points[3 * tri[2]] };
+    const bool surface = !boundary && (onFace ? onFace(corners) : flat && onS(centroid[0], centroid[1]));
     if (!boundary && !surface)
       continue;
     c.Plc.Triangles.insert(c.Plc.Triangles.end(), tri.begin(), tri.end());
@@ -683,6 +688,40 @@ TEST(RefillPieces, SurfaceWithItsBorderInsideTheCavityIsOnePiece)
   CubeComplex wrong = KuhnCubeComplex(6, [](double, double) { return true; });
   wrong.Meshed[0] = ar::MeshedBoth;
   EXPECT_EQ(ar::SplitComplex(wrong.Plc, wrong.Meshed, pieces), 1u);
+}
+
+TEST(RefillPieces, ClosedSurfaceInsideTheCavityGivesTheInsideAndTheOutside)
+{
+  // S: the boundary of [1/3, 2/3]^3, a closed surface floating in the cube.
+  // Its outer side floats in the outside region (placed by winding number,
+  // from just off S: on S the inside's winding number is 1/2).
+  const int n = 6;
+  const CubeComplex c = KuhnCubeComplex(n, nullptr, [&](const std::array<const double*, 3>& x) {
+    for (int d = 0; d < 3; ++d)
+      for (const int plane : { 2, 4 })
+      {
+        bool on = true, inside = true;
+        for (const double* p : x)
+        {
+          on = on && std::llround(p[d] * n) == plane && std::abs(p[d] * n - plane) < 1e-9;
+          for (int e = 0; e < 3; ++e)
+            inside = inside && p[e] * n > 2 - 1e-9 && p[e] * n < 4 + 1e-9;
+        }
+        if (on && inside)
+          return true;
+      }
+    return false;
+  });
+  ASSERT_EQ(c.SurfaceTriangles, 6u * 8u);
+  std::vector<ar::ComplexPiece> pieces;
+  ASSERT_EQ(ar::SplitComplex(c.Plc, c.Meshed, pieces), 2u);
+  EXPECT_EQ(pieces[0].Complex.Triangles.size() / 3, c.Plc.TriangleMarkers.size()) << "the outside: the cube and S";
+  EXPECT_EQ(pieces[1].Complex.Triangles.size() / 3, c.SurfaceTriangles) << "the inside: S";
+  ar::TetGenResult r;
+  std::string error;
+  ASSERT_TRUE(ar::TetGenMeshComplexInPieces(c.Plc, c.Meshed, ar::CavityOptions().Quality, 2, r, error)) << error;
+  EXPECT_EQ(r.Pieces, 2u);
+  ExpectValidRefill(c, r);
 }
 
 TEST(RefillPieces, SeparateCavitiesAreRefilledSideBySide)

@@ -686,6 +686,7 @@ bool vtkEmbeddedRemeshCavityOptions(
   CommonCavityOptions(self, options);
   options.Quality.MaxRadiusEdgeRatio = self->GetMaxRadiusEdgeRatio();
   options.Quality.MinDihedralAngle = self->GetMinDihedralAngle();
+  options.RefillThreads = static_cast<unsigned>(std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads()));
   return vtkEmbeddedRemeshLayerOptions(self, edge, options.Layers, problem);
 }
 
@@ -1040,6 +1041,7 @@ void vtkEmbeddedRemeshSummary::AddRefill(const ar::CavityRemesh& result)
   this->OutputSize = vtkEmbeddedRemeshOutputSizeAtSurface(result);
   this->LimitedColumns = static_cast<double>(result.LimitedColumns);
   this->RefillAttempts = result.RefillAttempts;
+  this->RefillPieces = static_cast<double>(result.RefillPieces);
   for (const auto& [name, seconds] : { std::make_pair("SecondsSetup", result.Seconds.Setup),
          std::make_pair("SecondsRemoval", result.Seconds.Removal), std::make_pair("SecondsCavity", result.Seconds.Cavity),
          std::make_pair("SecondsLayers", result.Seconds.Layers), std::make_pair("SecondsRefill", result.Seconds.Refill),
@@ -1070,7 +1072,7 @@ void vtkEmbeddedRemeshSummary::Reduce()
   // Sizes and the refill's figures: known on rank 0 (S and the refill are
   // there), 0 elsewhere; timings: the slowest rank's.
   std::vector<double> maxima = { this->SurfaceEdgeLength, this->InputSize, this->OutputSize, this->RefillAttempts,
-    this->MinTriangleAngleNew };
+    this->MinTriangleAngleNew, this->RefillPieces };
   for (const auto& t : this->Seconds)
   {
     maxima.push_back(t.second);
@@ -1081,9 +1083,10 @@ void vtkEmbeddedRemeshSummary::Reduce()
   this->OutputSize = maxima[2];
   this->RefillAttempts = maxima[3];
   this->MinTriangleAngleNew = maxima[4];
+  this->RefillPieces = maxima[5];
   for (std::size_t k = 0; k < this->Seconds.size(); ++k)
   {
-    this->Seconds[k].second = maxima[5 + k];
+    this->Seconds[k].second = maxima[6 + k];
   }
   vtkEmbeddedRemeshReduceQuality(this->Quality);
   // Every node not removed is kept: the output has the input's nodes less
@@ -1123,6 +1126,7 @@ void vtkEmbeddedRemeshSummary::Write(vtkUnstructuredGrid* output, const ar::Pris
   else
   {
     field("RefillAttempts", this->RefillAttempts);
+    field("RefillPieces", this->RefillPieces);
   }
   vtkEmbeddedRemeshAddQualityFields(output, this->Quality);
   for (const auto& t : this->Seconds)

@@ -295,6 +295,7 @@ struct vtkEmbeddedRemeshSummary
   double SurfaceEdgeLength = 0.0, InputSize = 0.0, OutputSize = 0.0;
   double LimitedColumns = 0.0;
   double RefillAttempts = 0.0;
+  double RefillPieces = 0.0;           ///< the cavity's pieces refilled side by side (3-D)
   double MinTriangleAngleNew = 0.0;    ///< 2-D only
   double PatchTrianglesNew = 0.0;      ///< 2-D only
   double VolumeBefore = 0.0, VolumeAfter = 0.0; ///< the areas of the cross-section in 2-D
@@ -302,7 +303,7 @@ struct vtkEmbeddedRemeshSummary
   /// Stage timings, wall-clock seconds (the maximum over the ranks).
   std::vector<std::pair<std::string, double>> Seconds;
   /// The core's figures: RemovedNodes, S's triangles (and those dropped at
-  /// locked cells), the output's size at S, LimitedColumns, RefillAttempts
+  /// locked cells), the output's size at S, LimitedColumns, RefillAttempts, RefillPieces
   /// and the core's stage timings.
   void AddRefill(const ar::CavityRemesh& result);
   /// Under MPI: sums of the counts and volumes, the maximum of the sizes

@@ -3,6 +3,7 @@
 #include "ARCGALTypes.h"
 
 #include "ARMeshSize.h"
+#include "ARTetGenPieces.h"
 #include "ARUnionFind.h"
 
 #include "ARTetGeometry.h"
@@ -1203,7 +1204,17 @@ bool CavityRun::Refill()
   {
     return false;
   }
-  const bool refilled = TetGenMeshComplex(plc, options.Quality, refill, error);
+  // In pieces: the cavity lies behind its boundary's faces (outward from
+  // their cavity cell), on both sides of S, in front of the stack's outer
+  // surface (oriented outward).
+  std::vector<std::uint8_t> meshed(plc.TriangleMarkers.size());
+  for (std::size_t t = 0; t < meshed.size(); ++t)
+  {
+    const int marker = plc.TriangleMarkers[t];
+    meshed[t] = marker == 2 ? MeshedBoth : (marker == 4 ? MeshedFront : MeshedBack);
+  }
+  const bool refilled = TetGenMeshComplexInPieces(plc, meshed, options.Quality, options.RefillThreads, refill, error);
+  out.RefillPieces = refill.Pieces;
   Lap(out.Seconds.Refill);
   if (!refilled)
   {

@@ -86,6 +86,11 @@ struct CavityOptions
   /// removal step is skipped and this cavity is refilled (it may still grow
   /// at forced slivers). Empty: the cavity comes from the removal test.
   std::vector<std::uint8_t> CavityCells;
+  /// TetGen processes run at once for the refill: the cavity is refilled in
+  /// pieces, the regions its boundary and S separate (ARTetGenPieces.h),
+  /// side by side. 0: std::thread::hardware_concurrency(). The result does
+  /// not depend on it.
+  unsigned RefillThreads = 0;
   /// When not empty: the refill's complex is also written as TetGen input
   /// files under this prefix (see WriteTetGenFiles), the last attempt's.
   std::string RefillFilesPrefix;
@@ -126,6 +131,7 @@ struct CavityRemesh
     double Setup = 0.0, Removal = 0.0, Cavity = 0.0, Refill = 0.0, Layers = 0.0, Assembly = 0.0;
   } Seconds;
   int RefillAttempts = 0; ///< TetGen runs (more than one when the cavity grew at forced slivers)
+  std::size_t RefillPieces = 0; ///< the last refill's pieces, meshed side by side (1: the cavity whole)
   std::size_t SurfaceTrianglesAtLockedCells = 0; ///< S triangles dropped at the locked cells
 
   // ---- Prism layers (options.Layers on); all empty otherwise.

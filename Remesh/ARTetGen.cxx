@@ -19,6 +19,7 @@
 #include <cstring>
 #include <cstdio>
 #include <map>
+#include <mutex>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -395,10 +396,22 @@ bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& o
   TetGenResult& out, std::string& error)
 {
   out = TetGenResult();
+  // Several threads may mesh at once (ARTetGenPieces.h): a child must not
+  // inherit another child's pipe end, which would hold that pipe open (its
+  // reader would wait for both children), so the pipe, the fork and the
+  // closing of the parent's write end are one step; and TetGen run here
+  // (no pipe or no fork) is run by one thread at a time (its globals).
+  static std::mutex forking, here;
+  auto runHere = [&]() {
+    std::lock_guard<std::mutex> lock(here);
+    return MeshComplexHere(plc, options, out, error);
+  };
+  forking.lock();
   int fds[2];
   if (pipe(fds) != 0)
   {
-    return MeshComplexHere(plc, options, out, error); // no pipe: run here
+    forking.unlock();
+    return runHere(); // no pipe: run here
   }
   std::fflush(nullptr);
   const pid_t pid = fork();
@@ -406,7 +419,8 @@ bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& o
   {
     close(fds[0]);
     close(fds[1]);
-    return MeshComplexHere(plc, options, out, error);
+    forking.unlock();
+    return runHere();
   }
   if (pid == 0)
   {
@@ -441,6 +455,7 @@ bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& o
     _exit(0);
   }
   close(fds[1]);
+  forking.unlock();
   std::vector<char> buffer;
   char chunk[1 << 16];
   for (;;)

@@ -67,6 +67,7 @@ struct TetGenResult
   TetMesh Mesh;                        ///< the input points first, in order; positively oriented
   std::vector<std::int64_t> Faces;     ///< triangles lying on input facets, 3 ids each
   std::vector<int> FaceMarkers;        ///< the marker of the facet each lies on
+  std::size_t Pieces = 1;              ///< complexes meshed side by side (ARTetGenPieces.h)
 };
 
 /**

@@ -9,7 +9,9 @@
 //
 // The surface: the plane z = 0.5 + 0.2 (x - 0.5) over [0.1, 0.9]^2,
 // triangulated at the mesh's edge length 1/n. Each row runs once (TetGen
-// dominates and does not vary much).
+// dominates and does not vary much). The last two rows: the same plane over
+// x in [0.1, 0.35] and [0.65, 0.9] only, two cavities refilled as two pieces,
+// one TetGen process at a time and then two at once (RefillThreads).
 
 #include "BenchClock.h"
 #include "ARCavity.h"
@@ -72,7 +74,7 @@ int main(int argc, char* argv[])
     sizes.push_back(std::atoi(argv[i]));
   if (sizes.empty())
     sizes = { 30, 55 };
-  std::printf("| mode | input tets | surface triangles | s | setup | removal | cavity | refill (runs) | layers | assembly | new tets (TetGen) | prisms | pyramids + closure tets | new tets/s in TetGen | kept tets | peak RSS MB |\n");
+  std::printf("| mode | input tets | surface triangles | s | setup | removal | cavity | refill (runs, pieces) | layers | assembly | new tets (TetGen) | prisms | pyramids + closure tets | new tets/s in TetGen | kept tets | peak RSS MB |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int n : sizes)
   {
@@ -92,11 +94,24 @@ int main(int argc, char* argv[])
         const std::int64_t a = i + (m + 1) * j, b = a + 1, c = a + m + 2, d = a + m + 1;
         tris.insert(tris.end(), { a, b, c, a, c, d });
       }
-    for (int mode = 0; mode < 3; ++mode)
+    // Two strips of the plane, far enough apart for two cavities.
+    std::vector<std::int64_t> strips;
+    for (std::size_t t = 0; t < tris.size() / 3; ++t)
     {
-      static const char* names[3] = { "LocalCavity", "LocalCavity + prisms", "FullDomain" };
+      double x = 0.0;
+      for (int k = 0; k < 3; ++k)
+        x += pts[3 * tris[3 * t + k]] / 3.0;
+      if (x < 0.35 || x > 0.65)
+        strips.insert(strips.end(), &tris[3 * t], &tris[3 * t] + 3);
+    }
+    for (int mode = 0; mode < 5; ++mode)
+    {
+      static const char* names[5] = { "LocalCavity", "LocalCavity + prisms", "FullDomain",
+        "LocalCavity, two strips, 1 process", "LocalCavity, two strips, 2 processes" };
+      const std::vector<std::int64_t>& surface = mode >= 3 ? strips : tris;
       ar::CavityOptions o;
       o.FullDomain = mode == 2;
+      o.RefillThreads = mode == 3 ? 1 : (mode == 4 ? 2 : 0);
       if (mode == 1)
       {
         o.Layers.NumberOfLayers = 5;
@@ -104,11 +119,12 @@ int main(int argc, char* argv[])
         o.Layers.GrowthRatio = 1.2;
       }
       const std::string prefix = "/tmp/BenchCavity_" + std::to_string(n) + "_" + std::to_string(mode);
-      o.RefillFilesPrefix = prefix;
+      if (mode < 3)
+        o.RefillFilesPrefix = prefix;
       ar::CavityRemesh r;
       std::string error;
       const double t0 = Now();
-      const bool ok = ar::RemeshLocalCavity(cube, pts.data(), pts.size() / 3, tris.data(), tris.size() / 3, o, r, error);
+      const bool ok = ar::RemeshLocalCavity(cube, pts.data(), pts.size() / 3, surface.data(), surface.size() / 3, o, r, error);
       const double dt = Now() - t0;
       std::size_t fresh = 0, kept = 0, closure = 0;
       for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
@@ -118,16 +134,16 @@ int main(int argc, char* argv[])
       }
       const std::size_t prisms = r.Prisms.size() / 6, pyramids = r.Pyramids.size() / 5 + closure;
       if (!ok)
-        std::printf("| %s | %zu | %zu | failed: %s |\n", names[mode], cube.NumberOfTetrahedra(), tris.size() / 3, error.c_str());
+        std::printf("| %s | %zu | %zu | failed: %s |\n", names[mode], cube.NumberOfTetrahedra(), surface.size() / 3, error.c_str());
       else
       {
         const auto& s = r.Seconds;
-        std::printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f (%d) | %.2f | %.2f | %zu | %zu | %zu | %.3g | %zu | %.0f |\n",
-          names[mode], cube.NumberOfTetrahedra(), tris.size() / 3, dt, s.Setup, s.Removal, s.Cavity, s.Refill,
-          r.RefillAttempts, s.Layers, s.Assembly, fresh, prisms, pyramids, fresh / s.Refill, kept, PeakRSSMB());
+        std::printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f (%d, %zu) | %.2f | %.2f | %zu | %zu | %zu | %.3g | %zu | %.0f |\n",
+          names[mode], cube.NumberOfTetrahedra(), surface.size() / 3, dt, s.Setup, s.Removal, s.Cavity, s.Refill,
+          r.RefillAttempts, r.RefillPieces, s.Layers, s.Assembly, fresh, prisms, pyramids, fresh / s.Refill, kept, PeakRSSMB());
       }
       std::fflush(stdout);
-      if (ok)
+      if (ok && mode < 3)
         standalone.push_back(Standalone(prefix, o.Quality, names[mode], cube.NumberOfTetrahedra(), fresh / r.Seconds.Refill));
     }
   }

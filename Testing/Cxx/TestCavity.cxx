@@ -2,9 +2,11 @@
 // planar feature surfaces: validity (positive volumes, conforming faces, the
 // boundary unchanged, volume conserved), the surface embedded as faces, the
 // kept cells untouched, the removal rule with and without visibility, and
-// every refused input.
+// every refused input; the refill's complex split into pieces
+// (ARTetGenPieces.h) and meshed side by side.
 #include "ARCavity.h"
 #include "ARSurfaceRemesh.h"
+#include "ARTetGenPieces.h"
 #include "ARTetGeometry.h"
 #include "ARTestMeshes.h"
 
@@ -525,4 +527,233 @@ TEST(Cavity, StagedOnAGatheredPartEqualsSerial)
   EXPECT_EQ(staged.RemovedNodes, serial.RemovedNodes);
   EXPECT_EQ(staged.Surface.size(), serial.Surface.size());
   EXPECT_EQ(serial.SourceCell.size() - newCells(serial), nT - serial.RemovedCells);
+}
+
+namespace
+{
+/// The whole Kuhn cube as a complex to refill: its boundary faces (outward,
+/// marker 3, the volume behind them) and, as S (marker 2, both sides), its
+/// inner faces on z = 0.5 where `onS(x, y)` holds at their centroid (or
+/// the inner faces for which `onFace` holds at their corners).
+struct CubeComplex
+{
+  ar::PiecewiseLinearComplex Plc;
+  std::vector<std::uint8_t> Meshed;
+  std::size_t SurfaceTriangles = 0;
+};
+
+using FacePredicate = std::function<bool(const std::array<const double*, 3>&)>;
+
+CubeComplex KuhnCubeComplex(int n, const std::function<bool(double, double)>& onS, const FacePredicate& onFace = nullptr)
+{
+  const ar::TetMesh cube = KuhnCube(n);
+  std::map<std::array<std::int64_t, 3>, std::pair<int, std::array<std::int64_t, 3>>> faces;
+  for (std::size_t t = 0; t < cube.NumberOfTetrahedra(); ++t)
+    for (const auto& f : ar::TetFaceVertex)
+    {
+      std::array<std::int64_t, 3> tri = { cube.Tetrahedra[4 * t + f[0]], cube.Tetrahedra[4 * t + f[1]],
+        cube.Tetrahedra[4 * t + f[2]] };
+      auto key = tri;
+      std::sort(key.begin(), key.end());
+      auto& e = faces[key];
+      ++e.first;
+      e.second = tri;
+    }
+  CubeComplex c;
+  c.Plc.Points = cube.Points;
+  c.Plc.PointSizes.assign(cube.NumberOfPoints(), 1.0 / n);
+  for (const auto& e : faces)
+  {
+    const std::array<std::int64_t, 3>& tri = e.second.second;
+    double centroid[3] = { 0, 0, 0 };
+    bool flat = true;
+    for (std::int64_t v : tri)
+    {
+      for (int d = 0; d < 3; ++d)
+        centroid[d] += cube.Points[3 * v + d] / 3.0;
+      flat = flat && cube.Points[3 * v + 2] == 0.5;
+    }
+    const bool boundary = e.second.first == 1;
+    const std::array<const double*, 3> corners = { &cube.Points[3 * tri[0]], &cube.Points[3 * tri[1]],
+      &cube.Points[3 * tri[2]] };
+    const bool surface = !boundary && (onFace ? onFace(corners) : flat && onS(centroid[0], centroid[1]));
+    if (!boundary && !surface)
+      continue;
+    c.Plc.Triangles.insert(c.Plc.Triangles.end(), tri.begin(), tri.end());
+    c.Plc.TriangleMarkers.push_back(boundary ? 3 : 2);
+    c.Meshed.push_back(boundary ? ar::MeshedBack : ar::MeshedBoth);
+    c.SurfaceTriangles += surface ? 1 : 0;
+  }
+  return c;
+}
+
+/// The checks on a refill of the whole cube: positive volumes summing to 1,
+/// conforming, its boundary the cube's faces, S's triangles faces between
+/// two tetrahedra, each once among the result's faces with marker 2.
+void ExpectValidRefill(const CubeComplex& c, const ar::TetGenResult& r)
+{
+  const ar::TetMeshStatistics stats = ar::ComputeStatistics(r.Mesh);
+  EXPECT_EQ(stats.NumberOfNonPositive, 0u);
+  EXPECT_NEAR(stats.TotalVolume, 1.0, 1e-9) << "the cavity's volume";
+  ASSERT_GE(r.Mesh.NumberOfPoints(), c.Plc.Points.size() / 3);
+  EXPECT_TRUE(std::equal(c.Plc.Points.begin(), c.Plc.Points.end(), r.Mesh.Points.begin())) << "the complex's points first";
+  const auto faces = Faces(r.Mesh);
+  std::set<Key> boundary, expected;
+  for (const auto& f : faces)
+  {
+    EXPECT_LE(f.second, 2) << "conforming";
+    if (f.second == 1)
+      boundary.insert(f.first);
+  }
+  std::size_t onS = 0;
+  for (std::size_t t = 0; t < c.Plc.TriangleMarkers.size(); ++t)
+  {
+    const std::int64_t* v = &c.Plc.Triangles[3 * t];
+    const Key key = FaceKey(r.Mesh, v[0], v[1], v[2]);
+    if (c.Plc.TriangleMarkers[t] == 3)
+      expected.insert(key);
+    else
+    {
+      const auto it = faces.find(key);
+      ASSERT_TRUE(it != faces.end()) << "S triangle " << t << " is a face of the result";
+      EXPECT_EQ(it->second, 2);
+    }
+  }
+  EXPECT_EQ(boundary, expected) << "the boundary is the cube's, face for face";
+  for (int m : r.FaceMarkers)
+    onS += m == 2 ? 1 : 0;
+  EXPECT_EQ(onS, c.SurfaceTriangles) << "S's triangles once each among the faces";
+}
+}
+
+TEST(RefillPieces, PlaneAcrossTheCavityGivesTwoPiecesMergedConforming)
+{
+  // S's border on the cavity's boundary: three triangles at each border
+  // edge, S separates the cube into two regions sharing its triangles.
+  const CubeComplex c = KuhnCubeComplex(6, [](double, double) { return true; });
+  ASSERT_EQ(c.SurfaceTriangles, 72u);
+  std::vector<ar::ComplexPiece> pieces;
+  ASSERT_EQ(ar::SplitComplex(c.Plc, c.Meshed, pieces), 2u);
+  ASSERT_EQ(pieces.size(), 2u);
+  for (const ar::ComplexPiece& p : pieces)
+  {
+    // Each piece: its half of the boundary and all of S.
+    EXPECT_EQ(p.Complex.Triangles.size() / 3, (c.Plc.TriangleMarkers.size() - c.SurfaceTriangles) / 2 + c.SurfaceTriangles);
+    EXPECT_EQ(p.Complex.PointSizes.size(), p.Points.size());
+    EXPECT_TRUE(std::is_sorted(p.Points.begin(), p.Points.end()));
+  }
+  const ar::TetGenOptions quality = ar::CavityOptions().Quality;
+  ar::TetGenResult one, two;
+  std::string error;
+  ASSERT_TRUE(ar::TetGenMeshComplexInPieces(c.Plc, c.Meshed, quality, 1, one, error)) << error;
+  ASSERT_TRUE(ar::TetGenMeshComplexInPieces(c.Plc, c.Meshed, quality, 2, two, error)) << error;
+  EXPECT_EQ(two.Pieces, 2u);
+  ExpectValidRefill(c, two);
+  EXPECT_EQ(one.Mesh.Points, two.Mesh.Points) << "the merged result does not depend on the processes run at once";
+  EXPECT_EQ(one.Mesh.Tetrahedra, two.Mesh.Tetrahedra);
+  EXPECT_EQ(one.Faces, two.Faces);
+  // Each piece's tetrahedra lie on one side of S: the first piece's below
+  // z = 0.5 (it holds triangle 0, a face on z = 0) or all above.
+  const std::size_t nBelow = [&]() {
+    std::size_t below = 0;
+    for (std::size_t t = 0; t < two.Mesh.NumberOfTetrahedra(); ++t)
+    {
+      double z = 0;
+      for (int k = 0; k < 4; ++k)
+        z += 0.25 * two.Mesh.Points[3 * two.Mesh.Tetrahedra[4 * t + k] + 2];
+      below += z < 0.5 ? 1 : 0;
+    }
+    return below;
+  }();
+  EXPECT_GT(nBelow, 0u);
+  EXPECT_LT(nBelow, two.Mesh.NumberOfTetrahedra());
+}
+
+TEST(RefillPieces, SurfaceWithItsBorderInsideTheCavityIsOnePiece)
+{
+  const CubeComplex c = KuhnCubeComplex(6, [](double x, double y) {
+    return x > 0.3 && x < 0.7 && y > 0.3 && y < 0.7;
+  });
+  ASSERT_GT(c.SurfaceTriangles, 0u);
+  std::vector<ar::ComplexPiece> pieces;
+  EXPECT_EQ(ar::SplitComplex(c.Plc, c.Meshed, pieces), 1u);
+  EXPECT_TRUE(pieces.empty());
+  ar::TetGenResult r;
+  std::string error;
+  ASSERT_TRUE(ar::TetGenMeshComplexInPieces(c.Plc, c.Meshed, ar::CavityOptions().Quality, 2, r, error)) << error;
+  EXPECT_EQ(r.Pieces, 1u);
+  ExpectValidRefill(c, r);
+  // A side facing the volume and one not in the same region (a boundary
+  // face said to have the volume in front as well): ambiguous, one piece.
+  CubeComplex wrong = KuhnCubeComplex(6, [](double, double) { return true; });
+  wrong.Meshed[0] = ar::MeshedBoth;
+  EXPECT_EQ(ar::SplitComplex(wrong.Plc, wrong.Meshed, pieces), 1u);
+}
+
+TEST(RefillPieces, ClosedSurfaceInsideTheCavityGivesTheInsideAndTheOutside)
+{
+  // S: the boundary of [1/3, 2/3]^3, a closed surface floating in the cube.
+  // Its outer side floats in the outside region (placed by winding number,
+  // from just off S: on S the inside's winding number is 1/2).
+  const int n = 6;
+  const CubeComplex c = KuhnCubeComplex(n, nullptr, [&](const std::array<const double*, 3>& x) {
+    for (int d = 0; d < 3; ++d)
+      for (const int plane : { 2, 4 })
+      {
+        bool on = true, inside = true;
+        for (const double* p : x)
+        {
+          on = on && std::llround(p[d] * n) == plane && std::abs(p[d] * n - plane) < 1e-9;
+          for (int e = 0; e < 3; ++e)
+            inside = inside && p[e] * n > 2 - 1e-9 && p[e] * n < 4 + 1e-9;
+        }
+        if (on && inside)
+          return true;
+      }
+    return false;
+  });
+  ASSERT_EQ(c.SurfaceTriangles, 6u * 8u);
+  std::vector<ar::ComplexPiece> pieces;
+  ASSERT_EQ(ar::SplitComplex(c.Plc, c.Meshed, pieces), 2u);
+  EXPECT_EQ(pieces[0].Complex.Triangles.size() / 3, c.Plc.TriangleMarkers.size()) << "the outside: the cube and S";
+  EXPECT_EQ(pieces[1].Complex.Triangles.size() / 3, c.SurfaceTriangles) << "the inside: S";
+  ar::TetGenResult r;
+  std::string error;
+  ASSERT_TRUE(ar::TetGenMeshComplexInPieces(c.Plc, c.Meshed, ar::CavityOptions().Quality, 2, r, error)) << error;
+  EXPECT_EQ(r.Pieces, 2u);
+  ExpectValidRefill(c, r);
+}
+
+TEST(RefillPieces, SeparateCavitiesAreRefilledSideBySide)
+{
+  // Two patches far apart: two cavities, each with its S floating inside
+  // (placed by winding number), refilled as two pieces; the same mesh with
+  // one TetGen process at a time.
+  // (removal radius 3 l_v = 0.22, the cavities' cells reach about 0.29 from
+  // each patch; the patches are 0.62 apart)
+  const ar::TetMesh cube = KuhnCube(24);
+  Surface s = Grid(4, 4, 0.08, 0.28, 0.08, 0.28, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.5 + 0.1 * (u - 0.18) };
+  });
+  const Surface t = Grid(4, 4, 0.72, 0.92, 0.72, 0.92, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.5 - 0.1 * (v - 0.82) };
+  });
+  const std::int64_t offset = static_cast<std::int64_t>(s.Points.size() / 3);
+  s.Points.insert(s.Points.end(), t.Points.begin(), t.Points.end());
+  for (std::int64_t id : t.Triangles)
+    s.Triangles.push_back(id + offset);
+  ar::CavityOptions o;
+  o.RefillThreads = 2;
+  const ar::CavityRemesh r = Remesh(cube, s, o);
+  ExpectValid(cube, r);
+  EXPECT_EQ(r.RefillPieces, 2u);
+  EXPECT_EQ(r.Surface.size(), s.Triangles.size());
+  EXPECT_GE(MinNewDihedral(r), 10.0);
+  o.RefillThreads = 1;
+  const ar::CavityRemesh serial = Remesh(cube, s, o);
+  EXPECT_EQ(serial.Mesh.Points, r.Mesh.Points);
+  EXPECT_EQ(serial.Mesh.Tetrahedra, r.Mesh.Tetrahedra);
+  EXPECT_EQ(serial.Surface, r.Surface);
+  // One patch: one cavity, one piece.
+  EXPECT_EQ(Remesh(cube, TiltedPatch()).RefillPieces, 1u);
 }

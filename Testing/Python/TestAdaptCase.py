@@ -19,7 +19,8 @@ solution made here: the first-order Mach 3 wedge of the validation matrix
   positive p and T on every cell;
 - bad input, each exit 1 with a message naming it and no case written: a
   source that is no case, a target that is not empty, two cycles without
-  --solve, a config naming a property AdaptToShocks does not have.
+  --solve, a config naming a property AdaptToShocks does not have, two
+  cycles with prism layers on a 3-D mesh (a coarse cone made for it).
 """
 import json
 import os
@@ -193,4 +194,18 @@ refused([source, os.path.join(root, "bad3"), "--cycles", "2"], "needs --solve", 
 with open(config, "w") as f:
     json.dump({"AdaptToShocks": {"NoSuchProperty": 1}}, f)
 refused([source, os.path.join(root, "bad4"), "--config", config], "no property NoSuchProperty", "a wrong property")
+
+# ---- Prism layers on a 3-D mesh cycle once: cycle 1's prisms would be kept
+# cells in cycle 2, where the re-fitted shock lies. Refused after cycle 1's
+# adaptation, before anything is written or solved. (A cone coarse enough to
+# solve in a minute, fine enough for its layers.)
+cone = os.path.join(root, "cone")
+rc, _ = artest.run([artest.require_program("python3", "python3"),
+                    os.path.join(os.environ["AR_DATA_DIR"], "make_validation_case.py"), "cone15Ma3",
+                    os.path.join(root, "cone.vtu"), "--keep", cone, "--refine", "0.8"])
+check(rc == 0 and os.path.isdir(cone), "the 3-D cone case was made and solved (exit %d)" % rc)
+with open(config, "w") as f:
+    json.dump({"AdaptToShocks": {"LayerType": "Prisms"}}, f)
+refused([cone, os.path.join(root, "bad5"), "--cycles", "2", "--solve", "--config", config],
+        "2 cycles with prism layers on a 3-D mesh", "two cycles with 3-D prism layers")
 artest.finish()

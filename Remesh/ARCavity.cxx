@@ -383,6 +383,11 @@ bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
       break;
     }
   }
+  // Slivers at TetGen's own points, which its -O2 smoothing left (a 9.07
+  // degree tetrahedron of two kept and two new points on the 5e6 cube): those
+  // points move within their stars. The complex's points stay.
+  out.SmoothedPoints = SmoothFreePointsAtSlivers(
+    refill.Mesh, plc.Points.size() / 3, std::max(0.0, options.Quality.MinDihedralAngle - 2.0));
   out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
   Lap(out.Seconds.Cavity);
   Assemble();

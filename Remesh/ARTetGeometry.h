@@ -28,6 +28,19 @@ struct TetMeshStatistics
   std::size_t NumberOfNonPositive = 0;
 };
 TetMeshStatistics ComputeStatistics(const TetMesh& mesh);
+
+/// Moves the free points (ids >= firstFree; the others stay where they are)
+/// of tetrahedra whose smallest dihedral angle is below `minAngle` degrees,
+/// each to where the smallest angle of its star (the tetrahedra at it) is
+/// largest among a few tries: towards the centroid of its star's other
+/// points, and small steps along the axes (a compass search, up to `passes`
+/// rounds). A move is kept only if it raises the star's smallest angle and
+/// every tetrahedron of the star stays positive, so the mesh stays valid and
+/// no angle falls below the star's old smallest. Points of tetrahedra that
+/// are not below `minAngle` never move: a mesh without such tetrahedra is
+/// left bit for bit. Returns the number of points moved. (CGAL's sliver
+/// perturbation works on a Mesh_3 complex, not on a mesh given as cells.)
+std::size_t SmoothFreePointsAtSlivers(TetMesh& mesh, std::size_t firstFree, double minAngle, int passes = 4);
 }
 
 #endif

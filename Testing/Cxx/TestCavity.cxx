@@ -757,3 +757,52 @@ TEST(RefillPieces, SeparateCavitiesAreRefilledSideBySide)
   // One patch: one cavity, one piece.
   EXPECT_EQ(Remesh(cube, TiltedPatch()).RefillPieces, 1u);
 }
+
+// A cube's corners (fixed) and one free point joined to its 12 boundary
+// triangles: with the free point 0.04 above the bottom face, the two
+// tetrahedra on that face are slivers. SmoothFreePointsAtSlivers moves the
+// free point (and only it) so that every tetrahedron is above the bound, the
+// volume stays 1 and every tetrahedron positive; a mesh without slivers is
+// left bit for bit.
+TEST(Cavity, SliversAtFreePointsAreSmoothedAway)
+{
+  ar::TetMesh star;
+  for (int i = 0; i < 8; ++i)
+  {
+    star.Points.insert(star.Points.end(), { double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1) });
+  }
+  star.Points.insert(star.Points.end(), { 0.5, 0.5, 0.04 });
+  const int faces[6][4] = { { 0, 1, 3, 2 }, { 4, 5, 7, 6 }, { 0, 1, 5, 4 }, { 2, 3, 7, 6 }, { 0, 2, 6, 4 },
+    { 1, 3, 7, 5 } };
+  for (const auto& q : faces)
+  {
+    for (const auto& tri : { std::array<int, 3>{ q[0], q[1], q[2] }, std::array<int, 3>{ q[0], q[2], q[3] } })
+    {
+      std::array<std::int64_t, 4> t = { tri[0], tri[1], tri[2], 8 };
+      if (ar::TetSignedVolume(&star.Points[3 * t[0]], &star.Points[3 * t[1]], &star.Points[3 * t[2]],
+            &star.Points[3 * t[3]]) < 0.0)
+      {
+        std::swap(t[0], t[1]);
+      }
+      star.Tetrahedra.insert(star.Tetrahedra.end(), t.begin(), t.end());
+    }
+  }
+  const ar::TetMeshStatistics before = ar::ComputeStatistics(star);
+  ASSERT_LT(before.MinDihedral, 5.0);
+  const std::vector<double> corners(star.Points.begin(), star.Points.begin() + 24);
+  EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 8, 10.0), 1u);
+  const ar::TetMeshStatistics after = ar::ComputeStatistics(star);
+  EXPECT_GE(after.MinDihedral, 10.0);
+  EXPECT_EQ(after.NumberOfNonPositive, 0u);
+  EXPECT_NEAR(after.TotalVolume, 1.0, 1e-12);
+  EXPECT_EQ(std::vector<double>(star.Points.begin(), star.Points.begin() + 24), corners);
+
+  // Nothing below the bound: nothing moves.
+  const std::vector<double> settled = star.Points;
+  EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 8, 10.0), 0u);
+  EXPECT_EQ(star.Points, settled);
+  // The corners are not free: with firstFree 9 the sliver cannot be helped.
+  star.Points[3 * 8 + 2] = 0.04;
+  EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 9, 10.0), 0u);
+  EXPECT_EQ(star.Points[3 * 8 + 2], 0.04);
+}

@@ -577,7 +577,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
 
   // ---- S remeshed at the edge length: SurfaceSizeFactor times the input's
   // size at S, h_S (the median l_v at the node of V nearest to each S point).
-  const std::vector<double> lv =
+  std::vector<double> lv =
     ar::LongestEdgeAtNodes(tets.Points.data(), nPoints, tets.Tetrahedra.data(), tets.NumberOfTetrahedra());
   const double inputSize =
     vtkEmbeddedRemeshInputSizeAt(tets.Points.data(), nPoints, 3, lv, nullptr, s.Points.data(), s.NumberOfPoints());
@@ -610,6 +610,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   {
     return passThrough(problem);
   }
+  options.LongestEdges = std::move(lv); // V's l_v, not computed again
   ar::CavityRemesh result;
   if (!ar::RemeshLocalCavity(tets, r.Points.data(), r.NumberOfPoints(), r.Triangles.data(), r.NumberOfTriangles(),
         options, result, problem))

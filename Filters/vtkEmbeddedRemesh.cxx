@@ -586,12 +586,12 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   {
     return passThrough("Could not find the mesh size near the feature surface; set SurfaceEdgeLength.");
   }
-  const ar::TetMeshStatistics before = ar::ComputeStatistics(tets);
+  const double volumeBefore = ar::TotalSignedVolume(tets); // (ComputeStatistics' TotalVolume, without its angles)
   {
     // The job's size, before CGAL or TetGen allocate it.
     double area = 0.0, diagonal = 0.0;
     vtkEmbeddedRemeshSurfaceAreaAndDiagonal(s, area, diagonal);
-    if (!vtkEmbeddedRemeshJobFits(this, 3, area, diagonal, edge, inputSize, before.TotalVolume,
+    if (!vtkEmbeddedRemeshJobFits(this, 3, area, diagonal, edge, inputSize, volumeBefore,
           static_cast<double>(tets.NumberOfTetrahedra()), problem))
     {
       return passThrough(problem);
@@ -663,7 +663,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   summary.AddRefill(result);
   summary.SurfaceEdgeLength = edge;
   summary.InputSize = inputSize;
-  summary.VolumeBefore = before.TotalVolume;
+  summary.VolumeBefore = volumeBefore;
   summary.VolumeAfter = cells.VolumeAfter;
   summary.Write(output, options.Layers);
   vtkEmbeddedRemeshSetEmbedded(embedded, points, result.Surface, nullptr);

@@ -813,7 +813,8 @@ bool FitRun::Gather()
   packed = vtkARParallel::GatherOnRoot(local);
   if (hasDomain)
   {
-    boundary = vtkARParallel::GatherDomainBoundary(domain);
+    vtkPolyData* given = self->GetDomainBoundary();
+    boundary = given ? vtkSmartPointer<vtkPolyData>(given) : vtkARParallel::GatherDomainBoundary(domain);
   }
   if (!root)
   {
@@ -1432,6 +1433,16 @@ int vtkQuadricFit::ExecuteData(
     this->UpdateProgress(1.0);
   }
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkQuadricFit::SetDomainBoundary(vtkPolyData* boundary)
+{
+  if (this->DomainBoundary != boundary)
+  {
+    this->DomainBoundary = boundary;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -179,14 +179,26 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     }
     const vtkIdType ncells = source->GetNumberOfCells();
     std::vector<char> keep(static_cast<std::size_t>(ncells), 0);
+    auto* grid = vtkUnstructuredGrid::SafeDownCast(source);
     vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
       vtkNew<vtkIdList> ids;
       for (vtkIdType c = b; c < e; ++c)
       {
-        source->GetCellPoints(c, ids);
-        for (vtkIdType k = 0; k < ids->GetNumberOfIds() && !keep[c]; ++k)
+        vtkIdType npts;
+        const vtkIdType* pts;
+        if (grid)
         {
-          keep[c] = near[ids->GetId(k)];
+          grid->GetCellPoints(c, npts, pts, ids); // in place (the thread-safe overload)
+        }
+        else
+        {
+          source->GetCellPoints(c, ids);
+          npts = ids->GetNumberOfIds();
+          pts = ids->GetPointer(0);
+        }
+        for (vtkIdType k = 0; k < npts && !keep[c]; ++k)
+        {
+          keep[c] = near[pts[k]];
         }
       }
     });

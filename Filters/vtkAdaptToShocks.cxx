@@ -328,6 +328,7 @@ private:
   std::vector<std::vector<int>> fittedClusters; // the clusters of each fitted surface
   std::vector<std::string> fittedTemplate;      // its template's name
   std::vector<std::array<double, 2>> fittedMeasure; // its RMS residual and edge length
+  vtkSmartPointer<vtkPolyData> domainBoundary;      // the volume's, for every fit (FitClusters)
   std::ostringstream fitProblems;
   vtkNew<vtkAppendPolyData> append;
   vtkNew<vtkStringArray> templates;
@@ -495,6 +496,12 @@ vtkSmartPointer<vtkPolyData> AdaptRun::FitClusters(
   vtkNew<vtkQuadricFit> fit;
   fit->SetInputConnection(clusters->GetOutputPort(1));
   fit->SetDomainData(volume);
+  if (!domainBoundary)
+  {
+    // Once per run, for every fit (collective: every rank fits the same clusters).
+    domainBoundary = vtkARParallel::GatherDomainBoundary(volume);
+  }
+  fit->SetDomainBoundary(domainBoundary);
   fit->SetClusterId(ks[0]);
   fit->SetExtraClusterIds(std::vector<int>(ks.begin() + 1, ks.end()));
   const auto named = clusterTemplates.find(ks[0]);

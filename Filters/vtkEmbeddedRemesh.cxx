@@ -577,7 +577,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
 
   // ---- S remeshed at the edge length: SurfaceSizeFactor times the input's
   // size at S, h_S (the median l_v at the node of V nearest to each S point).
-  const std::vector<double> lv =
+  std::vector<double> lv =
     ar::LongestEdgeAtNodes(tets.Points.data(), nPoints, tets.Tetrahedra.data(), tets.NumberOfTetrahedra());
   const double inputSize =
     vtkEmbeddedRemeshInputSizeAt(tets.Points.data(), nPoints, 3, lv, nullptr, s.Points.data(), s.NumberOfPoints());
@@ -586,12 +586,12 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   {
     return passThrough("Could not find the mesh size near the feature surface; set SurfaceEdgeLength.");
   }
-  const ar::TetMeshStatistics before = ar::ComputeStatistics(tets);
+  const double volumeBefore = ar::TotalSignedVolume(tets); // (ComputeStatistics' TotalVolume, without its angles)
   {
     // The job's size, before CGAL or TetGen allocate it.
     double area = 0.0, diagonal = 0.0;
     vtkEmbeddedRemeshSurfaceAreaAndDiagonal(s, area, diagonal);
-    if (!vtkEmbeddedRemeshJobFits(this, 3, area, diagonal, edge, inputSize, before.TotalVolume,
+    if (!vtkEmbeddedRemeshJobFits(this, 3, area, diagonal, edge, inputSize, volumeBefore,
           static_cast<double>(tets.NumberOfTetrahedra()), problem))
     {
       return passThrough(problem);
@@ -610,6 +610,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   {
     return passThrough(problem);
   }
+  options.LongestEdges = std::move(lv); // V's l_v, not computed again
   ar::CavityRemesh result;
   if (!ar::RemeshLocalCavity(tets, r.Points.data(), r.NumberOfPoints(), r.Triangles.data(), r.NumberOfTriangles(),
         options, result, problem))
@@ -662,7 +663,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   summary.AddRefill(result);
   summary.SurfaceEdgeLength = edge;
   summary.InputSize = inputSize;
-  summary.VolumeBefore = before.TotalVolume;
+  summary.VolumeBefore = volumeBefore;
   summary.VolumeAfter = cells.VolumeAfter;
   summary.Write(output, options.Layers);
   vtkEmbeddedRemeshSetEmbedded(embedded, points, result.Surface, nullptr);

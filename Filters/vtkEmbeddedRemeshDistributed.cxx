@@ -572,6 +572,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
     return passThrough(); // the same properties on every rank: all refuse
   }
   options.BoundaryTriangles = DomainBoundary(piece);
+  options.LongestEdges = lv; // the piece's l_v, not computed again
   std::vector<std::uint8_t> removed;
   std::string error;
   if (!ar::ComputeRemovedNodes(V, r.Points.data(), r.NumberOfPoints(), r.Triangles.data(), r.NumberOfTriangles(),
@@ -579,6 +580,7 @@ int vtkEmbeddedRemesh::RemeshDistributed(vtkUnstructuredGrid* input,
   {
     problem = "EmbeddedRemesh: " + error;
   }
+  options.LongestEdges.clear(); // (the gathered cells' refill below has its own)
   if (failed())
   {
     return passThrough();

@@ -684,6 +684,9 @@ bool vtkEmbeddedRemeshCavityOptions(
   vtkEmbeddedRemesh* self, double edge, ar::CavityOptions& options, std::string& problem)
 {
   CommonCavityOptions(self, options);
+  // The core's searches on as many threads as vtkSMPTools has here (the
+  // filter's scope, vtkARMeshKernels::Threaded).
+  options.Threads = vtkSMPTools::GetEstimatedNumberOfThreads();
   options.Quality.MaxRadiusEdgeRatio = self->GetMaxRadiusEdgeRatio();
   options.Quality.MinDihedralAngle = self->GetMinDihedralAngle();
   options.RefillThreads = static_cast<unsigned>(std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads()));

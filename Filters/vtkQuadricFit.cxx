@@ -179,14 +179,26 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     }
     const vtkIdType ncells = source->GetNumberOfCells();
     std::vector<char> keep(static_cast<std::size_t>(ncells), 0);
+    auto* grid = vtkUnstructuredGrid::SafeDownCast(source);
     vtkSMPTools::For(0, ncells, [&](vtkIdType b, vtkIdType e) {
       vtkNew<vtkIdList> ids;
       for (vtkIdType c = b; c < e; ++c)
       {
-        source->GetCellPoints(c, ids);
-        for (vtkIdType k = 0; k < ids->GetNumberOfIds() && !keep[c]; ++k)
+        vtkIdType npts;
+        const vtkIdType* pts;
+        if (grid)
         {
-          keep[c] = near[ids->GetId(k)];
+          grid->GetCellPoints(c, npts, pts, ids); // in place (the thread-safe overload)
+        }
+        else
+        {
+          source->GetCellPoints(c, ids);
+          npts = ids->GetNumberOfIds();
+          pts = ids->GetPointer(0);
+        }
+        for (vtkIdType k = 0; k < npts && !keep[c]; ++k)
+        {
+          keep[c] = near[pts[k]];
         }
       }
     });
@@ -813,7 +825,8 @@ bool FitRun::Gather()
   packed = vtkARParallel::GatherOnRoot(local);
   if (hasDomain)
   {
-    boundary = vtkARParallel::GatherDomainBoundary(domain);
+    vtkPolyData* given = self->GetDomainBoundary();
+    boundary = given ? vtkSmartPointer<vtkPolyData>(given) : vtkARParallel::GatherDomainBoundary(domain);
   }
   if (!root)
   {
@@ -1432,6 +1445,16 @@ int vtkQuadricFit::ExecuteData(
     this->UpdateProgress(1.0);
   }
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkQuadricFit::SetDomainBoundary(vtkPolyData* boundary)
+{
+  if (this->DomainBoundary != boundary)
+  {
+    this->DomainBoundary = boundary;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -86,6 +86,7 @@
 
 #include "AdaptiveRedistributionFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
+#include "vtkSmartPointer.h" // for DomainBoundary
 
 #include <vector> // for ExtraClusterIds
 
@@ -230,6 +231,18 @@ public:
   vtkGetMacro(Margin, double);
   ///@}
 
+  ///@{
+  /**
+   * The Domain's boundary as vtkARParallel::GatherDomainBoundary gives it
+   * for that Domain (C++ only): AdaptToShocks extracts it once for all its
+   * fits. When set, every rank sets it (rank 0's whole, the other ranks'
+   * empty) and the fit does not extract it again; null (the default)
+   * extracts it from the Domain, as a standalone QuadricFit does.
+   */
+  void SetDomainBoundary(vtkPolyData* boundary);
+  vtkPolyData* GetDomainBoundary() const { return this->DomainBoundary; }
+  ///@}
+
 protected:
   vtkQuadricFit();
   ~vtkQuadricFit() override;
@@ -255,6 +268,7 @@ private:
   bool ShockCentring = true;
   char* CentringArray = nullptr;
   double Margin = 3.0;
+  vtkSmartPointer<vtkPolyData> DomainBoundary;
 };
 
 #endif

@@ -3,6 +3,7 @@
 #include "ARCGALTypes.h"
 
 #include "ARMeshSize.h"
+#include "ARParallelFor.h"
 #include "ARTetGenPieces.h"
 #include "ARUnionFind.h"
 
@@ -18,6 +19,7 @@
 #include <CGAL/Search_traits_adapter.h>
 #include <CGAL/property_map.h>
 
+#include <boost/optional.hpp>
 #include <boost/tuple/tuple.hpp>
 
 #include <algorithm>
@@ -278,6 +280,11 @@ private:
   bool GrowAtSlivers();
   void Assemble();
 
+  /// Threads for the per-point searches (options.Threads, 0: the hardware's).
+  std::size_t Threads() const { return static_cast<std::size_t>(std::max(0, options.Threads)); }
+  /// Points per block of those searches (small, so that small inputs use the threads too).
+  static constexpr std::size_t SearchGrain = 256;
+
   /// Adds the time since the last call to `stage`.
   void Lap(double& stage)
   {
@@ -476,7 +483,8 @@ bool CavityRun::CheckLayerOptions()
 // grades to at the cavity's boundary: ComputeMeans).
 void CavityRun::ComputeSizes()
 {
-  lv = LongestEdgeAtNodes(V.Points.data(), nV, V.Tetrahedra.data(), nT);
+  lv = options.LongestEdges.size() == nV ? options.LongestEdges
+                                         : LongestEdgeAtNodes(V.Points.data(), nV, V.Tetrahedra.data(), nT);
   ls.assign(nSurfacePoints, 0.0);
   meanV.assign(nV, 0.0);
   hasMean.assign(nV, 0);
@@ -762,23 +770,29 @@ bool CavityRun::TrimSurface()
     return std::sqrt(CGAL::to_double(CGAL::squared_distance(p, hit.first))) >=
       options.BoundaryMargin * std::max(lsi, lb) + (margin - options.BoundaryMargin) * lsi;
   };
-  std::vector<char> usable(nSurfacePoints, 0), clearOfLocked(nSurfacePoints, 1);
-  std::size_t inside = 0;
-  for (std::size_t i = 0; i < nSurfacePoints; ++i)
-  {
-    const Point p = P(&S[3 * i]);
-    if (!lockedFaces.empty())
-    {
-      clearOfLocked[i] = !Inside(lockedTree, p) &&
-        std::sqrt(CGAL::to_double(lockedTree.squared_distance(p))) >= margin * ls[i];
-    }
-    if (!Inside(tree, p))
-    {
-      continue;
-    }
-    ++inside;
-    usable[i] = boundaryClearance(p, ls[i]);
-  }
+  // (per point on threads: each writes its own flags)
+  std::vector<char> usable(nSurfacePoints, 0), clearOfLocked(nSurfacePoints, 1), insideV(nSurfacePoints, 0);
+  ParallelFor(
+    nSurfacePoints,
+    [&](std::size_t first, std::size_t last) {
+      for (std::size_t i = first; i < last; ++i)
+      {
+        const Point p = P(&S[3 * i]);
+        if (!lockedFaces.empty())
+        {
+          clearOfLocked[i] = !Inside(lockedTree, p) &&
+            std::sqrt(CGAL::to_double(lockedTree.squared_distance(p))) >= margin * ls[i];
+        }
+        if (!Inside(tree, p))
+        {
+          continue;
+        }
+        insideV[i] = 1;
+        usable[i] = boundaryClearance(p, ls[i]);
+      }
+    },
+    Threads(), SearchGrain);
+  const std::size_t inside = static_cast<std::size_t>(std::count(insideV.begin(), insideV.end(), char(1)));
   if (inside == 0)
   {
     error = "the feature surface lies entirely outside the volume mesh.";
@@ -877,8 +891,6 @@ bool CavityRun::MarkRemovedNodes()
   KdTree kd(indexed.begin(), indexed.end());
   kd.build();
   removed.assign(nV, 0);
-  std::vector<IndexedPoint> found;
-  const double rf = options.RemovalFactor;
   if (!options.LockedNodes.empty() && options.LockedNodes.size() != nV)
   {
     error = "LockedNodes has " + std::to_string(options.LockedNodes.size()) + " entries for " +
@@ -892,44 +904,94 @@ bool CavityRun::MarkRemovedNodes()
       std::to_string(nT) + " tetrahedra.";
     return false;
   }
-  for (std::size_t j = 0; j < nV && !givenCavity; ++j)
+  if (givenCavity)
   {
-    if (!options.LockedNodes.empty() && options.LockedNodes[j])
+    return true;
+  }
+  // S's bounding box: a node more than twice its search radius from it (in
+  // one coordinate; twice, far beyond any rounding) has no S point within
+  // that radius, and is skipped.
+  double lo[3] = { 0.0, 0.0, 0.0 }, hi[3] = { 0.0, 0.0, 0.0 };
+  for (int k = 0; k < 3 && nS > 0; ++k)
+  {
+    lo[k] = hi[k] = sPoints[k];
+    for (std::size_t i = 1; i < nS; ++i)
     {
-      continue;
+      lo[k] = std::min(lo[k], sPoints[3 * i + k]);
+      hi[k] = std::max(hi[k], sPoints[3 * i + k]);
     }
-    if (options.FullDomain)
-    {
-      removed[j] = 1;
-      continue;
-    }
-    const double* xj = &V.Points[3 * j];
-    const Point pj = P(xj);
-    found.clear();
-    kd.search(std::back_inserter(found),
-      Sphere(IndexedPoint(pj, 0), rf * std::max(lsMax, lv[j]) + stackHeight, 0.0));
-    for (const IndexedPoint& q : found)
-    {
-      const std::size_t i = boost::get<1>(q);
-      const double* xi = &sPoints[3 * i];
-      if (Distance(xi, xj) >= rf * std::max(sSize[i], lv[j]) + stackHeight)
+  }
+  const double rf = options.RemovalFactor;
+  // V_j is removed when some S_i lies within rf * max(l_si, l_vj) + z_N of
+  // it and sees it: the kd-tree's sphere of the largest such radius holds
+  // every candidate. First any S point within the smallest radius, rf * l_vj
+  // + z_N (a point of that sphere is in the larger one too): when it passes
+  // both tests V_j goes at once (most nodes near S); otherwise every
+  // candidate is tested. The result is the same either way (whether some
+  // candidate passes), and each node writes its own flag (on threads).
+  ParallelFor(
+    nV,
+    [&](std::size_t first, std::size_t last) {
+      std::vector<IndexedPoint> found;
+      auto passes = [&](const IndexedPoint& q, const double* xj, std::size_t j) {
+        const std::size_t i = boost::get<1>(q);
+        const double* xi = &sPoints[3 * i];
+        if (Distance(xi, xj) >= rf * std::max(sSize[i], lv[j]) + stackHeight)
+        {
+          return false;
+        }
+        if (options.VisibilityTest)
+        {
+          // Stop just short of V_j, which may itself lie on the boundary.
+          const double t = 1.0 - 1e-7;
+          const Point end(xi[0] + t * (xj[0] - xi[0]), xi[1] + t * (xj[1] - xi[1]), xi[2] + t * (xj[2] - xi[2]));
+          if (tree.do_intersect(Segment(boost::get<0>(q), end)))
+          {
+            return false;
+          }
+        }
+        return true;
+      };
+      for (std::size_t j = first; j < last; ++j)
       {
-        continue;
-      }
-      if (options.VisibilityTest)
-      {
-        // Stop just short of V_j, which may itself lie on the boundary.
-        const double t = 1.0 - 1e-7;
-        const Point end(xi[0] + t * (xj[0] - xi[0]), xi[1] + t * (xj[1] - xi[1]), xi[2] + t * (xj[2] - xi[2]));
-        if (tree.do_intersect(Segment(boost::get<0>(q), end)))
+        if (!options.LockedNodes.empty() && options.LockedNodes[j])
         {
           continue;
         }
+        if (options.FullDomain)
+        {
+          removed[j] = 1;
+          continue;
+        }
+        const double* xj = &V.Points[3 * j];
+        const double radius = rf * std::max(lsMax, lv[j]) + stackHeight;
+        const double reach = 2.0 * radius;
+        if (xj[0] < lo[0] - reach || xj[0] > hi[0] + reach || xj[1] < lo[1] - reach || xj[1] > hi[1] + reach ||
+          xj[2] < lo[2] - reach || xj[2] > hi[2] + reach)
+        {
+          continue;
+        }
+        const Point pj = P(xj);
+        const boost::optional<IndexedPoint> any =
+          kd.search_any_point(Sphere(IndexedPoint(pj, 0), rf * lv[j] + stackHeight, 0.0));
+        if (any && passes(*any, xj, j))
+        {
+          removed[j] = 1;
+          continue;
+        }
+        found.clear();
+        kd.search(std::back_inserter(found), Sphere(IndexedPoint(pj, 0), radius, 0.0));
+        for (const IndexedPoint& q : found)
+        {
+          if (passes(q, xj, j))
+          {
+            removed[j] = 1;
+            break;
+          }
+        }
       }
-      removed[j] = 1;
-      break;
-    }
-  }
+    },
+    Threads(), SearchGrain);
   return true;
 }
 

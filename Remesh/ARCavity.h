@@ -94,6 +94,14 @@ struct CavityOptions
   /// When not empty: the refill's complex is also written as TetGen input
   /// files under this prefix (see WriteTetGenFiles), the last attempt's.
   std::string RefillFilesPrefix;
+  /// l_v, the longest edge at each node of V, when the caller has it
+  /// already (LongestEdgeAtNodes of V's points and tetrahedra; one value per
+  /// node): not computed again. Empty (or another size): computed here.
+  std::vector<double> LongestEdges;
+  /// Threads for the trim's and the removal's searches (per S point, per
+  /// node of V: each its own result, so the output is the same with any
+  /// number). 0: the hardware's.
+  int Threads = 0;
   /// Prism layers on both sides of S (ARPrismLayers.h); NumberOfLayers = 0
   /// (the default) leaves them off and the refill is tetrahedra only. When on:
   ///  - the removal radius grows by the stack's height z_N: V_j goes when it

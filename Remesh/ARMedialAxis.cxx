@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARMedialAxis.h"
 #include "ARCGALTypes.h"
+#include "ARParallelFor.h"
 #include "ARUnionFind.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -18,7 +19,6 @@
 #include <memory>
 #include <numeric>
 #include <sstream>
-#include <thread>
 #include <utility>
 
 namespace ar
@@ -35,30 +35,6 @@ using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
 using cgal::Mesh;
 
 constexpr double Pi = 3.14159265358979323846;
-
-/// Runs fn(begin, end) over [0, n) in contiguous blocks on the hardware threads.
-void ParallelFor(std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn)
-{
-  const std::size_t threads =
-    std::max<std::size_t>(1, std::min<std::size_t>(std::thread::hardware_concurrency(), n / 10000));
-  if (threads <= 1)
-  {
-    fn(0, n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  const std::size_t block = (n + threads - 1) / threads;
-  for (std::size_t t = 1; t < threads; ++t)
-  {
-    pool.emplace_back(fn, std::min(n, t * block), std::min(n, (t + 1) * block));
-  }
-  fn(0, std::min(n, block));
-  for (std::thread& th : pool)
-  {
-    th.join();
-  }
-}
-
 
 bool Finite3(const double* v)
 {

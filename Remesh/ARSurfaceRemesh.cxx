@@ -11,7 +11,6 @@
 
 #include <array>
 #include <cmath>
-#include <map>
 
 namespace ar
 {
@@ -86,10 +85,11 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
   PMP::isotropic_remeshing(CGAL::faces(mesh), edgeLength, mesh,
     CGAL::parameters::number_of_iterations(8).protect_constraints(true));
   mesh.collect_garbage();
-  std::map<Mesh::Vertex_index, std::int64_t> index;
+  // (after the garbage is collected the vertex indices run 0 .. n-1)
+  std::vector<std::int64_t> index(mesh.number_of_vertices(), -1);
   for (Mesh::Vertex_index v : mesh.vertices())
   {
-    index[v] = static_cast<std::int64_t>(outPoints.size() / 3);
+    index[static_cast<std::size_t>(v)] = static_cast<std::int64_t>(outPoints.size() / 3);
     const Point& p = mesh.point(v);
     outPoints.insert(outPoints.end(), { p.x(), p.y(), p.z() });
   }
@@ -97,7 +97,7 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
   {
     for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
     {
-      outTriangles.push_back(index[v]);
+      outTriangles.push_back(index[static_cast<std::size_t>(v)]);
     }
   }
   return true;

@@ -64,6 +64,22 @@ void TetDihedralAngles(
   }
 }
 
+double TotalSignedVolume(const TetMesh& mesh)
+{
+  double total = 0.0;
+  const std::size_t nt = mesh.NumberOfTetrahedra();
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    const double* p[4];
+    for (int k = 0; k < 4; ++k)
+    {
+      p[k] = &mesh.Points[3 * static_cast<std::size_t>(mesh.Tetrahedra[4 * t + k])];
+    }
+    total += TetSignedVolume(p[0], p[1], p[2], p[3]);
+  }
+  return total;
+}
+
 TetMeshStatistics ComputeStatistics(const TetMesh& mesh)
 {
   TetMeshStatistics s;

@@ -28,6 +28,9 @@ struct TetMeshStatistics
   std::size_t NumberOfNonPositive = 0;
 };
 TetMeshStatistics ComputeStatistics(const TetMesh& mesh);
+/// The sum of the tetrahedra's signed volumes in their order: bit for bit
+/// ComputeStatistics' TotalVolume, without its dihedral angles.
+double TotalSignedVolume(const TetMesh& mesh);
 
 /// Moves the free points (ids >= firstFree; the others stay where they are)
 /// of tetrahedra whose smallest dihedral angle is below `minAngle` degrees,

@@ -5,6 +5,7 @@
 // every refused input; the refill's complex split into pieces
 // (ARTetGenPieces.h) and meshed side by side.
 #include "ARCavity.h"
+#include "ARMeshSize.h"
 #include "ARSurfaceRemesh.h"
 #include "ARTetGenPieces.h"
 #include "ARTetGeometry.h"
@@ -166,6 +167,39 @@ TEST(Cavity, InteriorPlaneIsEmbeddedInAValidMesh)
       dmin = std::min(dmin, std::hypot(x[0] - s.Points[3 * i], std::hypot(x[1] - s.Points[3 * i + 1], x[2] - s.Points[3 * i + 2])));
     if (interior && dmin < 0.99 * 3.0 * std::max(lv, ls))
       EXPECT_EQ(kept.count(static_cast<std::int64_t>(j)), 0u) << "node " << j << " at " << dmin;
+  }
+}
+
+TEST(Cavity, RemovalIsTheSameOnAnyNumberOfThreads)
+{
+  // The trim and the removal search per S point and per node of V on
+  // threads: the flags must not depend on their number, nor on whether the
+  // caller passes l_v (LongestEdges) or the core computes it.
+  const ar::TetMesh cube = KuhnCube(12);
+  const Surface s = TiltedPatch();
+  std::vector<std::uint8_t> one;
+  std::string error;
+  ar::CavityOptions o;
+  o.Threads = 1;
+  ASSERT_TRUE(ar::ComputeRemovedNodes(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, one, error)) << error;
+  EXPECT_GT(std::count(one.begin(), one.end(), std::uint8_t(1)), 0);
+  for (const int threads : { 2, 3, 7, 0 })
+  {
+    for (const bool given : { false, true })
+    {
+      ar::CavityOptions t;
+      t.Threads = threads;
+      if (given)
+      {
+        t.LongestEdges = ar::LongestEdgeAtNodes(
+          cube.Points.data(), cube.NumberOfPoints(), cube.Tetrahedra.data(), cube.NumberOfTetrahedra());
+      }
+      std::vector<std::uint8_t> removed;
+      ASSERT_TRUE(ar::ComputeRemovedNodes(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+        s.Triangles.size() / 3, t, removed, error)) << error;
+      EXPECT_EQ(removed, one) << threads << " threads, l_v " << (given ? "given" : "computed");
+    }
   }
 }
 

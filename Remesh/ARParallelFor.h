@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * ar::ParallelFor: a loop over [0, n) on std::threads, in contiguous
+ * blocks (the core is VTK-free, so not vtkSMPTools). The caller keeps its
+ * results independent of the blocks (each index writes its own entries),
+ * so that the output does not depend on the number of threads.
+ */
+#ifndef ARParallelFor_h
+#define ARParallelFor_h
+
+#include <algorithm>
+#include <cstddef>
+#include <functional>
+#include <thread>
+#include <vector>
+
+namespace ar
+{
+/// Runs fn(begin, end) over [0, n) in contiguous blocks of at least
+/// `grain` indices, on at most `threads` threads (0: the hardware's).
+inline void ParallelFor(std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn,
+  std::size_t threads = 0, std::size_t grain = 10000)
+{
+  const std::size_t hardware = std::max<std::size_t>(1, std::thread::hardware_concurrency());
+  threads = std::max<std::size_t>(
+    1, std::min<std::size_t>(threads == 0 ? hardware : threads, n / std::max<std::size_t>(1, grain)));
+  if (threads <= 1)
+  {
+    fn(0, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  const std::size_t block = (n + threads - 1) / threads;
+  for (std::size_t t = 1; t < threads; ++t)
+  {
+    pool.emplace_back(fn, std::min(n, t * block), std::min(n, (t + 1) * block));
+  }
+  fn(0, std::min(n, block));
+  for (std::thread& th : pool)
+  {
+    th.join();
+  }
+}
+}
+
+#endif

@@ -689,7 +689,6 @@ bool vtkEmbeddedRemeshCavityOptions(
   options.Threads = vtkSMPTools::GetEstimatedNumberOfThreads();
   options.Quality.MaxRadiusEdgeRatio = self->GetMaxRadiusEdgeRatio();
   options.Quality.MinDihedralAngle = self->GetMinDihedralAngle();
-  options.RefillThreads = static_cast<unsigned>(std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads()));
   return vtkEmbeddedRemeshLayerOptions(self, edge, options.Layers, problem);
 }
 

@@ -1280,7 +1280,7 @@ bool CavityRun::Refill()
     const int marker = plc.TriangleMarkers[t];
     meshed[t] = marker == 2 ? MeshedBoth : (marker == 4 ? MeshedFront : MeshedBack);
   }
-  const bool refilled = TetGenMeshComplexInPieces(plc, meshed, options.Quality, options.RefillThreads, refill, error);
+  const bool refilled = TetGenMeshComplexInPieces(plc, meshed, options.Quality, static_cast<unsigned>(Threads()), refill, error);
   out.RefillPieces = refill.Pieces;
   Lap(out.Seconds.Refill);
   if (!refilled)

@@ -86,11 +86,6 @@ struct CavityOptions
   /// removal step is skipped and this cavity is refilled (it may still grow
   /// at forced slivers). Empty: the cavity comes from the removal test.
   std::vector<std::uint8_t> CavityCells;
-  /// TetGen processes run at once for the refill: the cavity is refilled in
-  /// pieces, the regions its boundary and S separate (ARTetGenPieces.h),
-  /// side by side. 0: std::thread::hardware_concurrency(). The result does
-  /// not depend on it.
-  unsigned RefillThreads = 0;
   /// When not empty: the refill's complex is also written as TetGen input
   /// files under this prefix (see WriteTetGenFiles), the last attempt's.
   std::string RefillFilesPrefix;
@@ -99,8 +94,10 @@ struct CavityOptions
   /// node): not computed again. Empty (or another size): computed here.
   std::vector<double> LongestEdges;
   /// Threads for the trim's and the removal's searches (per S point, per
-  /// node of V: each its own result, so the output is the same with any
-  /// number). 0: the hardware's.
+  /// node of V: each its own result), and TetGen processes run at once for
+  /// the refill, which is refilled in pieces, the regions its boundary and S
+  /// separate (ARTetGenPieces.h), side by side. The output is the same with
+  /// any number. 0: the hardware's.
   int Threads = 0;
   /// Prism layers on both sides of S (ARPrismLayers.h); NumberOfLayers = 0
   /// (the default) leaves them off and the refill is tetrahedra only. When on:

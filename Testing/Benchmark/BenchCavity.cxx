@@ -11,7 +11,7 @@
 // triangulated at the mesh's edge length 1/n. Each row runs once (TetGen
 // dominates and does not vary much). The last two rows: the same plane over
 // x in [0.1, 0.35] and [0.65, 0.9] only, two cavities refilled as two pieces,
-// one TetGen process at a time and then two at once (RefillThreads).
+// one TetGen process at a time and then two at once (Threads).
 
 #include "BenchClock.h"
 #include "ARCavity.h"
@@ -111,7 +111,7 @@ int main(int argc, char* argv[])
       const std::vector<std::int64_t>& surface = mode >= 3 ? strips : tris;
       ar::CavityOptions o;
       o.FullDomain = mode == 2;
-      o.RefillThreads = mode == 3 ? 1 : (mode == 4 ? 2 : 0);
+      o.Threads = mode == 3 ? 1 : (mode == 4 ? 2 : 0);
       if (mode == 1)
       {
         o.Layers.NumberOfLayers = 5;

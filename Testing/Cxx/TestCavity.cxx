@@ -777,13 +777,13 @@ TEST(RefillPieces, SeparateCavitiesAreRefilledSideBySide)
   for (std::int64_t id : t.Triangles)
     s.Triangles.push_back(id + offset);
   ar::CavityOptions o;
-  o.RefillThreads = 2;
+  o.Threads = 2;
   const ar::CavityRemesh r = Remesh(cube, s, o);
   ExpectValid(cube, r);
   EXPECT_EQ(r.RefillPieces, 2u);
   EXPECT_EQ(r.Surface.size(), s.Triangles.size());
   EXPECT_GE(MinNewDihedral(r), 10.0);
-  o.RefillThreads = 1;
+  o.Threads = 1;
   const ar::CavityRemesh serial = Remesh(cube, s, o);
   EXPECT_EQ(serial.Mesh.Points, r.Mesh.Points);
   EXPECT_EQ(serial.Mesh.Tetrahedra, r.Mesh.Tetrahedra);

@@ -146,41 +146,110 @@ double StarMinAngle(TetMesh& mesh, const std::vector<std::size_t>& star, std::in
   std::copy(saved, saved + 3, &mesh.Points[3 * p]);
   return m;
 }
+/// Flags the free points (ids >= firstFree) of tetrahedra under minAngle; false if there are none.
+bool MarkSliverPoints(const TetMesh& mesh, std::size_t firstFree, double minAngle, std::vector<char>& candidate)
+{
+  candidate.assign(mesh.NumberOfPoints(), 0);
+  bool any = false;
+  for (std::size_t t = 0; t < mesh.NumberOfTetrahedra(); ++t)
+  {
+    const std::int64_t* v = &mesh.Tetrahedra[4 * t];
+    if (std::none_of(v, v + 4, [&](std::int64_t p) { return static_cast<std::size_t>(p) >= firstFree; }) ||
+      MinDihedral(mesh, t) >= minAngle)
+    {
+      continue;
+    }
+    for (int k = 0; k < 4; ++k)
+    {
+      if (static_cast<std::size_t>(v[k]) >= firstFree)
+      {
+        candidate[v[k]] = 1;
+        any = true;
+      }
+    }
+  }
+  return any;
+}
+
+/// Moves point p to the best of its tries (towards its star's centroid, or
+/// compass steps around it) if that raises its star's smallest angle.
+bool MoveToBestTry(TetMesh& mesh, const std::vector<std::size_t>& star, std::size_t p)
+{
+  const std::int64_t id = static_cast<std::int64_t>(p);
+  const double x[3] = { mesh.Points[3 * p], mesh.Points[3 * p + 1], mesh.Points[3 * p + 2] };
+  double best = StarMinAngle(mesh, star, id, x);
+  // The centroid of the star's other points, and their mean distance from p.
+  double c[3] = { 0.0, 0.0, 0.0 };
+  double edge = 0.0;
+  std::size_t n = 0;
+  for (std::size_t t : star)
+  {
+    for (int k = 0; k < 4; ++k)
+    {
+      const std::int64_t q = mesh.Tetrahedra[4 * t + k];
+      if (q == id)
+      {
+        continue;
+      }
+      double d2 = 0.0;
+      for (int a = 0; a < 3; ++a)
+      {
+        c[a] += mesh.Points[3 * q + a];
+        d2 += (mesh.Points[3 * q + a] - x[a]) * (mesh.Points[3 * q + a] - x[a]);
+      }
+      edge += std::sqrt(d2);
+      ++n;
+    }
+  }
+  if (n == 0)
+  {
+    return false;
+  }
+  edge /= static_cast<double>(n);
+  std::vector<std::array<double, 3>> tries;
+  for (double f : { 1.0, 0.5, 0.25 })
+  {
+    tries.push_back({ x[0] + f * (c[0] / n - x[0]), x[1] + f * (c[1] / n - x[1]), x[2] + f * (c[2] / n - x[2]) });
+  }
+  for (double step = 0.2 * edge; step > 0.01 * edge; step *= 0.5)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      for (double sign : { 1.0, -1.0 })
+      {
+        std::array<double, 3> y = { x[0], x[1], x[2] };
+        y[a] += sign * step;
+        tries.push_back(y);
+      }
+    }
+  }
+  const std::array<double, 3>* chosen = nullptr;
+  for (const auto& y : tries)
+  {
+    const double m = StarMinAngle(mesh, star, id, y.data());
+    if (m > best)
+    {
+      best = m;
+      chosen = &y;
+    }
+  }
+  if (chosen)
+  {
+    std::copy(chosen->begin(), chosen->end(), &mesh.Points[3 * p]);
+  }
+  return chosen != nullptr;
+}
 }
 
 std::size_t SmoothFreePointsAtSlivers(TetMesh& mesh, std::size_t firstFree, double minAngle, int passes)
 {
-  const std::size_t nT = mesh.NumberOfTetrahedra();
   const std::size_t nP = mesh.NumberOfPoints();
-  std::vector<char> moved(nP, 0);
-  for (int pass = 0; pass < passes; ++pass)
+  std::vector<char> moved(nP, 0), candidate;
+  for (int pass = 0; pass < passes && MarkSliverPoints(mesh, firstFree, minAngle, candidate); ++pass)
   {
-    // The free points of the tetrahedra below the bound, in id order.
-    std::vector<char> candidate(nP, 0);
-    bool any = false;
-    for (std::size_t t = 0; t < nT; ++t)
-    {
-      const std::int64_t* v = &mesh.Tetrahedra[4 * t];
-      if (std::none_of(v, v + 4, [&](std::int64_t p) { return static_cast<std::size_t>(p) >= firstFree; }) ||
-        MinDihedral(mesh, t) >= minAngle)
-      {
-        continue;
-      }
-      for (int k = 0; k < 4; ++k)
-      {
-        if (static_cast<std::size_t>(v[k]) >= firstFree)
-        {
-          candidate[v[k]] = 1;
-          any = true;
-        }
-      }
-    }
-    if (!any)
-    {
-      break;
-    }
+    // The stars of the flagged points.
     std::vector<std::vector<std::size_t>> star(nP);
-    for (std::size_t t = 0; t < nT; ++t)
+    for (std::size_t t = 0; t < mesh.NumberOfTetrahedra(); ++t)
     {
       for (int k = 0; k < 4; ++k)
       {
@@ -194,73 +263,8 @@ std::size_t SmoothFreePointsAtSlivers(TetMesh& mesh, std::size_t firstFree, doub
     bool improved = false;
     for (std::size_t p = firstFree; p < nP; ++p)
     {
-      if (!candidate[p])
+      if (candidate[p] && MoveToBestTry(mesh, star[p], p))
       {
-        continue;
-      }
-      const std::int64_t id = static_cast<std::int64_t>(p);
-      double x[3] = { mesh.Points[3 * p], mesh.Points[3 * p + 1], mesh.Points[3 * p + 2] };
-      double best = StarMinAngle(mesh, star[p], id, x);
-      // The centroid of the star's other points, and its mean edge from p.
-      double c[3] = { 0.0, 0.0, 0.0 };
-      double edge = 0.0;
-      std::size_t n = 0;
-      for (std::size_t t : star[p])
-      {
-        for (int k = 0; k < 4; ++k)
-        {
-          const std::int64_t q = mesh.Tetrahedra[4 * t + k];
-          if (q == id)
-          {
-            continue;
-          }
-          double d2 = 0.0;
-          for (int a = 0; a < 3; ++a)
-          {
-            c[a] += mesh.Points[3 * q + a];
-            d2 += (mesh.Points[3 * q + a] - x[a]) * (mesh.Points[3 * q + a] - x[a]);
-          }
-          edge += std::sqrt(d2);
-          ++n;
-        }
-      }
-      if (n == 0)
-      {
-        continue;
-      }
-      edge /= static_cast<double>(n);
-      std::vector<std::array<double, 3>> tries;
-      for (double f : { 1.0, 0.5, 0.25 })
-      {
-        tries.push_back({ x[0] + f * (c[0] / n - x[0]), x[1] + f * (c[1] / n - x[1]), x[2] + f * (c[2] / n - x[2]) });
-      }
-      double at[3] = { x[0], x[1], x[2] };
-      for (double step = 0.2 * edge; step > 0.01 * edge; step *= 0.5)
-      {
-        for (int a = 0; a < 3; ++a)
-        {
-          for (double sign : { 1.0, -1.0 })
-          {
-            std::array<double, 3> y = { at[0], at[1], at[2] };
-            y[a] += sign * step;
-            tries.push_back(y);
-          }
-        }
-      }
-      bool better = false;
-      for (const auto& y : tries)
-      {
-        const double m = StarMinAngle(mesh, star[p], id, y.data());
-        if (m > best)
-        {
-          best = m;
-          std::copy(y.begin(), y.end(), at);
-          better = true;
-        }
-      }
-      if (better)
-      {
-        std::copy(at, at + 3, &mesh.Points[3 * p]);
         moved[p] = 1;
         improved = true;
       }

@@ -280,6 +280,9 @@ private:
   bool GrowAtSlivers();
   void Assemble();
 
+  /// The angle under which a refill's tetrahedron is a sliver (degrees):
+  /// where the cavity grows at kept nodes, and where TetGen's points move.
+  double SliverAngle() const { return std::max(0.0, options.Quality.MinDihedralAngle - 2.0); }
   /// Threads for the per-point searches (options.Threads, 0: the hardware's).
   std::size_t Threads() const { return static_cast<std::size_t>(std::max(0, options.Threads)); }
   /// Points per block of those searches (small, so that small inputs use the threads too).
@@ -393,8 +396,7 @@ bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
   // Slivers at TetGen's own points, which its -O2 smoothing left (a 9.07
   // degree tetrahedron of two kept and two new points on the 5e6 cube): those
   // points move within their stars. The complex's points stay.
-  out.SmoothedPoints = SmoothFreePointsAtSlivers(
-    refill.Mesh, plc.Points.size() / 3, std::max(0.0, options.Quality.MinDihedralAngle - 2.0));
+  SmoothFreePointsAtSlivers(refill.Mesh, plc.Points.size() / 3, SliverAngle());
   out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
   Lap(out.Seconds.Cavity);
   Assemble();
@@ -1295,7 +1297,7 @@ bool CavityRun::Refill()
 // cavity. True when the cavity grew.
 bool CavityRun::GrowAtSlivers()
 {
-  const double limit = std::max(0.0, options.Quality.MinDihedralAngle - 2.0);
+  const double limit = SliverAngle();
   std::vector<std::int64_t> grow;
   for (std::size_t t = 0; t < refill.Mesh.NumberOfTetrahedra(); ++t)
   {

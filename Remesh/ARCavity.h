@@ -136,8 +136,6 @@ struct CavityRemesh
     double Setup = 0.0, Removal = 0.0, Cavity = 0.0, Refill = 0.0, Layers = 0.0, Assembly = 0.0;
   } Seconds;
   int RefillAttempts = 0; ///< TetGen runs (more than one when the cavity grew at forced slivers)
-  /// TetGen's own points moved off slivers after the refill (SmoothFreePointsAtSlivers)
-  std::size_t SmoothedPoints = 0;
   std::size_t RefillPieces = 0; ///< the last refill's pieces, meshed side by side (1: the cavity whole)
   std::size_t SurfaceTrianglesAtLockedCells = 0; ///< S triangles dropped at the locked cells
 

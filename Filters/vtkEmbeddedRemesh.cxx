@@ -5,6 +5,7 @@
 
 #include "ARCavity.h"
 #include "ARCellQuality.h"
+#include "ARLayerRelease.h"
 #include "ARMeshSize.h"
 #include "ARPrismLayers.h"
 #include "ARSurfaceRemesh.h"
@@ -296,12 +297,87 @@ int vtkEmbeddedRemesh::ExecuteData(
 
 namespace
 {
-/// V for the core: the input's tetrahedra (`tetCell`: their input cells);
-/// the other 3-D cells and the boundary-patch faces kept (`otherCell`), their
-/// nodes locked and the 3-D ones' faces given as LockedCellFaces. False with
-/// `problem` for a cell type EmbeddedRemesh does not take.
-bool SplitVolume(vtkUnstructuredGrid* input, ar::TetMesh& tets, ar::CavityOptions& options,
-  std::vector<vtkIdType>& tetCell, std::vector<vtkIdType>& otherCell, std::string& problem)
+/// The prisms and pyramids an earlier adaptation left floating in the mesh
+/// (ARLayerRelease.h), split so that the cavity may take them: `released`
+/// their input cells, `release` the groups and the tetrahedra.
+struct ReleasedLayers
+{
+  std::vector<vtkIdType> Cell;  ///< per cell of `Release`: its input cell
+  ar::LayerRelease Release;
+  std::vector<char> IsReleased; ///< per input cell
+};
+
+ReleasedLayers FindReleasedLayers(vtkUnstructuredGrid* input)
+{
+  ReleasedLayers r;
+  const vtkIdType nCells = input->GetNumberOfCells();
+  ar::LayerCells cells;
+  std::vector<std::int64_t> tets, otherFaces;
+  vtkNew<vtkIdList> ids;
+  vtkNew<vtkGenericCell> cell;
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    const int type = input->GetCellType(c);
+    if (type == VTK_WEDGE || type == VTK_PYRAMID)
+    {
+      r.Cell.push_back(c);
+    }
+  }
+  if (r.Cell.empty())
+  {
+    return r;
+  }
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    const int type = input->GetCellType(c);
+    vtkIdType npts;
+    const vtkIdType* pts;
+    input->GetCellPoints(c, npts, pts, ids);
+    if (type == VTK_TETRA)
+    {
+      tets.insert(tets.end(), pts, pts + 4);
+    }
+    else if (type == VTK_WEDGE || type == VTK_PYRAMID)
+    {
+      cells.Sizes.push_back(static_cast<int>(npts));
+      cells.Ids.insert(cells.Ids.end(), pts, pts + npts);
+    }
+    else if (vtkCellTypes::GetDimension(type) == 3)
+    {
+      input->GetCell(c, cell);
+      for (int f = 0; f < cell->GetNumberOfFaces(); ++f)
+      {
+        vtkCell* face = cell->GetFace(f);
+        otherFaces.push_back(face->GetNumberOfPoints());
+        for (vtkIdType k = 0; k < face->GetNumberOfPoints(); ++k)
+        {
+          otherFaces.push_back(face->GetPointId(k));
+        }
+      }
+    }
+  }
+  std::vector<double> X(3 * static_cast<std::size_t>(input->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+  {
+    input->GetPoint(i, &X[3 * i]);
+  }
+  r.Release = ar::ReleaseFloatingLayers(X.data(), tets.data(), tets.size() / 4, cells, otherFaces);
+  r.IsReleased.assign(static_cast<std::size_t>(nCells), 0);
+  for (std::size_t k = 0; k < r.Cell.size(); ++k)
+  {
+    r.IsReleased[r.Cell[k]] = r.Release.Group[k] >= 0 ? 1 : 0;
+  }
+  return r;
+}
+
+/// V for the core: the input's tetrahedra (`tetCell`: their input cells),
+/// then the released layers' tetrahedra (their input cell; in
+/// options.CellGroups their group); the other 3-D cells and the
+/// boundary-patch faces kept (`otherCell`), their nodes locked and the 3-D
+/// ones' faces given as LockedCellFaces. False with `problem` for a cell type
+/// EmbeddedRemesh does not take.
+bool SplitVolume(vtkUnstructuredGrid* input, const ReleasedLayers& released, ar::TetMesh& tets,
+  ar::CavityOptions& options, std::vector<vtkIdType>& tetCell, std::vector<vtkIdType>& otherCell, std::string& problem)
 {
   const vtkIdType nPoints = input->GetNumberOfPoints();
   tets.Points.resize(3 * nPoints);
@@ -311,7 +387,7 @@ bool SplitVolume(vtkUnstructuredGrid* input, ar::TetMesh& tets, ar::CavityOption
   }
   options.LockedNodes.assign(nPoints, 0);
   const vtkIdType nCells = input->GetNumberOfCells();
-  vtkIdType nTets = 0;
+  vtkIdType nTets = static_cast<vtkIdType>(released.Release.TetrahedronCell.size());
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     nTets += input->GetCellType(c) == VTK_TETRA ? 1 : 0;
@@ -330,6 +406,10 @@ bool SplitVolume(vtkUnstructuredGrid* input, ar::TetMesh& tets, ar::CavityOption
     {
       tets.Tetrahedra.insert(tets.Tetrahedra.end(), pts, pts + 4);
       tetCell.push_back(c);
+    }
+    else if (!released.IsReleased.empty() && released.IsReleased[c])
+    {
+      continue; // its tetrahedra follow
     }
     else if (type == VTK_HEXAHEDRON || type == VTK_WEDGE || type == VTK_PYRAMID ||
       type == VTK_VOXEL || type == VTK_POLYHEDRON || type == VTK_TRIANGLE || type == VTK_QUAD ||
@@ -368,7 +448,56 @@ bool SplitVolume(vtkUnstructuredGrid* input, ar::TetMesh& tets, ar::CavityOption
       return false;
     }
   }
+  const ar::LayerRelease& lr = released.Release;
+  if (!lr.TetrahedronCell.empty())
+  {
+    options.CellGroups.assign(tetCell.size(), -1);
+    for (std::size_t t = 0; t < lr.TetrahedronCell.size(); ++t)
+    {
+      tets.Tetrahedra.insert(tets.Tetrahedra.end(), &lr.Tetrahedra[4 * t], &lr.Tetrahedra[4 * t] + 4);
+      tetCell.push_back(released.Cell[lr.TetrahedronCell[t]]);
+      options.CellGroups.push_back(lr.Group[lr.TetrahedronCell[t]]);
+    }
+  }
   return true;
+}
+
+/// After the refill: the released groups the cavity did not take come back
+/// as their cells (`restored`, input cells, added to the kept ones), their
+/// tetrahedra are skipped (`skipKept`, per tetrahedron of V); returns the
+/// released cells the cavity took.
+vtkIdType RestoreKeptLayers(const ReleasedLayers& released, const ar::CavityOptions& options,
+  const ar::CavityRemesh& result, std::vector<char>& skipKept, std::vector<vtkIdType>& restored)
+{
+  const ar::LayerRelease& lr = released.Release;
+  if (lr.NumberOfGroups == 0)
+  {
+    return 0;
+  }
+  std::vector<char> kept(static_cast<std::size_t>(lr.NumberOfGroups), 0);
+  for (const std::int64_t src : result.SourceCell)
+  {
+    if (src >= 0 && options.CellGroups[src] >= 0)
+    {
+      kept[options.CellGroups[src]] = 1;
+    }
+  }
+  skipKept.assign(options.CellGroups.size(), 0);
+  for (std::size_t t = 0; t < options.CellGroups.size(); ++t)
+  {
+    skipKept[t] = options.CellGroups[t] >= 0 && kept[options.CellGroups[t]] ? 1 : 0;
+  }
+  vtkIdType taken = 0;
+  for (std::size_t k = 0; k < released.Cell.size(); ++k)
+  {
+    const std::int64_t g = lr.Group[k];
+    if (g >= 0 && kept[g])
+    {
+      restored.push_back(released.Cell[k]);
+    }
+    taken += g >= 0 && !kept[g] ? 1 : 0;
+  }
+  return taken;
 }
 
 /// The kept non-tetrahedral cells (`otherCell`) in the output's point ids.
@@ -406,23 +535,21 @@ void AddKeptCells(vtkUnstructuredGrid* input, const std::vector<vtkIdType>& othe
   }
 }
 
-/// The removed tetrahedra (input cells `cavityCell`) on the input's points.
-vtkSmartPointer<vtkUnstructuredGrid> CavityGrid(vtkUnstructuredGrid* input, const std::vector<vtkIdType>& cavityCell)
+/// The removed tetrahedra (`cavityTet`, of V, whose points are the input's)
+/// on the input's points.
+vtkSmartPointer<vtkUnstructuredGrid> CavityGrid(
+  vtkUnstructuredGrid* input, const ar::TetMesh& V, const std::vector<std::size_t>& cavityTet)
 {
-  const auto nCavity = static_cast<vtkIdType>(cavityCell.size());
+  const auto nCavity = static_cast<vtkIdType>(cavityTet.size());
   auto cavity = vtkSmartPointer<vtkUnstructuredGrid>::New();
   cavity->SetPoints(input->GetPoints());
   vtkNew<vtkIdTypeArray> offsets, connectivity;
   offsets->SetNumberOfValues(nCavity + 1);
   connectivity->SetNumberOfValues(4 * nCavity);
-  vtkSMPThreadLocalObject<vtkIdList> scratch;
   vtkSMPTools::For(0, nCavity, [&](vtkIdType b, vtkIdType e) {
-    vtkIdList* corners = scratch.Local();
     for (vtkIdType c = b; c < e; ++c)
     {
-      vtkIdType npts;
-      const vtkIdType* pts;
-      input->GetCellPoints(cavityCell[c], npts, pts, corners);
+      const std::int64_t* pts = &V.Tetrahedra[4 * cavityTet[c]];
       for (int k = 0; k < 4; ++k)
       {
         connectivity->SetValue(4 * c + k, pts[k]);
@@ -443,8 +570,8 @@ vtkSmartPointer<vtkUnstructuredGrid> CavityGrid(vtkUnstructuredGrid* input, cons
 /// linear interpolation in the removed tetrahedron that contains it, a new
 /// cell the values of the removed tetrahedron that contains its centre
 /// (TetLocator: the same answer whatever the threads do).
-void InterpolateFromCavity(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, const ar::CavityRemesh& result,
-  const std::vector<vtkIdType>& tetCell, const std::vector<vtkIdType>& sourceCell)
+void InterpolateFromCavity(vtkUnstructuredGrid* input, const ar::TetMesh& V, vtkUnstructuredGrid* output,
+  const ar::CavityRemesh& result, const std::vector<vtkIdType>& tetCell, const std::vector<vtkIdType>& sourceCell)
 {
   const vtkIdType nOut = output->GetNumberOfPoints();
   const auto nCellsOut = static_cast<vtkIdType>(sourceCell.size());
@@ -459,14 +586,16 @@ void InterpolateFromCavity(vtkUnstructuredGrid* input, vtkUnstructuredGrid* outp
     }
   }
   std::vector<vtkIdType> cavityCell; // input cell id of each cavity cell
+  std::vector<std::size_t> cavityTet; // and its tetrahedron of V
   for (std::size_t t = 0; t < tetCell.size(); ++t)
   {
     if (!keptTet[t])
     {
       cavityCell.push_back(tetCell[t]);
+      cavityTet.push_back(t);
     }
   }
-  vtkSmartPointer<vtkUnstructuredGrid> cavity = CavityGrid(input, cavityCell);
+  vtkSmartPointer<vtkUnstructuredGrid> cavity = CavityGrid(input, V, cavityTet);
   vtkARFieldTransfer::TetLocator locator;
   locator.Build(cavity);
   std::vector<char> isNew(nOut, 0);
@@ -559,7 +688,8 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   ar::TetMesh tets;
   ar::CavityOptions options;
   std::vector<vtkIdType> tetCell, otherCell;
-  if (!SplitVolume(input, tets, options, tetCell, otherCell, problem))
+  const ReleasedLayers released = FindReleasedLayers(input);
+  if (!SplitVolume(input, released, tets, options, tetCell, otherCell, problem))
   {
     return passThrough(problem);
   }
@@ -650,11 +780,15 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   vtkEmbeddedRemeshCells cells(output);
   cells.Reserve(result.SourceCell.size() + otherCell.size() + result.Prisms.size() / 6 + result.Pyramids.size() / 5,
     4 * result.SourceCell.size() + 8 * otherCell.size() + result.Prisms.size() + result.Pyramids.size());
-  cells.AddRefillTetrahedra(result, nullptr, &tetCell, points);
+  std::vector<char> skipKept; // the tetrahedra of released layers the cavity left
+  std::vector<vtkIdType> restored;
+  summary.RemovedLayerCells = static_cast<double>(RestoreKeptLayers(released, options, result, skipKept, restored));
+  cells.AddRefillTetrahedra(result, nullptr, &tetCell, points, skipKept.empty() ? nullptr : &skipKept);
   AddKeptCells(input, otherCell, outOfInput, cells);
+  AddKeptCells(input, restored, outOfInput, cells);
   cells.AddRefillLayers(result, nullptr, points);
   vtkEmbeddedRemeshCompleteCells(output, cells, this->InterpolateFields,
-    [&] { InterpolateFromCavity(input, output, result, tetCell, cells.Sources()); }, lap, summary);
+    [&] { InterpolateFromCavity(input, tets, output, result, tetCell, cells.Sources()); }, lap, summary);
 
   // ---- Field data and the embedded surface.
   summary.InputNodes = static_cast<double>(nPoints);

@@ -811,7 +811,8 @@ vtkIdType vtkEmbeddedRemeshCells::AppendCells(vtkIdType count, vtkIdType points)
 }
 
 void vtkEmbeddedRemeshCells::AddRefillTetrahedra(const ar::CavityRemesh& result,
-  const std::vector<vtkIdType>* pointOf, const std::vector<vtkIdType>* keptSource, vtkPoints* points)
+  const std::vector<vtkIdType>* pointOf, const std::vector<vtkIdType>* keptSource, vtkPoints* points,
+  const std::vector<char>* skipKept)
 {
   // The result's tetrahedra to add, in order; each goes to its fixed place
   // (first + its index), so the threads' schedule changes nothing.
@@ -819,7 +820,8 @@ void vtkEmbeddedRemeshCells::AddRefillTetrahedra(const ar::CavityRemesh& result,
   added.reserve(result.SourceCell.size());
   for (std::size_t t = 0; t < result.SourceCell.size(); ++t)
   {
-    if (result.SourceCell[t] < 0 || keptSource)
+    const std::int64_t src = result.SourceCell[t];
+    if (src < 0 || (keptSource && !(skipKept && (*skipKept)[src])))
     {
       added.push_back(t);
     }
@@ -1116,6 +1118,7 @@ void vtkEmbeddedRemeshSummary::Write(vtkUnstructuredGrid* output, const ar::Pris
   {
     field("SurfaceTriangles", this->SurfaceElements);
     field("SurfaceTrianglesAtLockedCells", this->SurfaceTrianglesAtLockedCells);
+    field("RemovedLayerCells", this->RemovedLayerCells);
   }
   field("SurfaceEdgeLength", this->SurfaceEdgeLength);
   vtkEmbeddedRemeshAddSizeFields(output, this->SurfaceEdgeLength, this->InputSize, this->OutputSize);

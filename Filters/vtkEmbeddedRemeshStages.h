@@ -217,9 +217,10 @@ public:
   /// output point; null: the same ids). Those whose SourceCell is set are
   /// kept, from input cell (*keptSource)[SourceCell]; with `keptSource`
   /// null only the new ones are added. `points`: the output's coordinates,
-  /// for the volumes.
+  /// for the volumes. `skipKept` (per input tetrahedron of the core, may be
+  /// null): kept ones not to add (released layers that come back as cells).
   void AddRefillTetrahedra(const ar::CavityRemesh& result, const std::vector<vtkIdType>* pointOf,
-    const std::vector<vtkIdType>* keptSource, vtkPoints* points);
+    const std::vector<vtkIdType>* keptSource, vtkPoints* points, const std::vector<char>* skipKept = nullptr);
   /// The result's prisms and pyramids (the layers and their closure).
   void AddRefillLayers(const ar::CavityRemesh& result, const std::vector<vtkIdType>* pointOf, vtkPoints* points);
   /// Makes the cells added so far the output's cells, and Region() ready.
@@ -296,6 +297,7 @@ struct vtkEmbeddedRemeshSummary
   double LimitedColumns = 0.0;
   double RefillAttempts = 0.0;
   double RefillPieces = 0.0;           ///< the cavity's pieces refilled side by side (3-D)
+  double RemovedLayerCells = 0.0;      ///< prisms and pyramids of earlier layers the cavity took (3-D)
   double MinTriangleAngleNew = 0.0;    ///< 2-D only
   double PatchTrianglesNew = 0.0;      ///< 2-D only
   double VolumeBefore = 0.0, VolumeAfter = 0.0; ///< the areas of the cross-section in 2-D

@@ -271,6 +271,7 @@ private:
   bool TrimSurface();
   bool CheckSelfIntersection();
   bool MarkRemovedNodes();
+  std::size_t CloseOverGroups();
   bool MarkCavity();
   void BuildCavityBoundary();
   bool CheckSurfaceInsideCavity();
@@ -1013,6 +1014,13 @@ bool CavityRun::MarkCavity()
       cavity[t] = cavity[t] || removed[V.Tetrahedra[4 * t + k]];
     }
   }
+  if (!options.CellGroups.empty() && options.CellGroups.size() != nT)
+  {
+    error = "CellGroups has " + std::to_string(options.CellGroups.size()) + " entries for " + std::to_string(nT) +
+      " tetrahedra.";
+    return false;
+  }
+  CloseOverGroups();
   out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
   if (out.RemovedCells == 0)
   {
@@ -1020,6 +1028,41 @@ bool CavityRun::MarkCavity()
     return false;
   }
   return true;
+}
+
+// Every group the cavity touches joins it whole (CavityOptions::CellGroups);
+// returns the tetrahedra added.
+std::size_t CavityRun::CloseOverGroups()
+{
+  if (options.CellGroups.empty())
+  {
+    return 0;
+  }
+  std::int64_t nGroups = 0;
+  for (const std::int64_t g : options.CellGroups)
+  {
+    nGroups = std::max(nGroups, g + 1);
+  }
+  std::vector<char> touched(static_cast<std::size_t>(nGroups), 0);
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const std::int64_t g = options.CellGroups[t];
+    if (g >= 0 && cavity[t])
+    {
+      touched[g] = 1;
+    }
+  }
+  std::size_t added = 0;
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const std::int64_t g = options.CellGroups[t];
+    if (g >= 0 && touched[g] && !cavity[t])
+    {
+      cavity[t] = 1;
+      ++added;
+    }
+  }
+  return added;
 }
 
 // The refill's complex, first the cavity's boundary: its faces (kept faces
@@ -1360,6 +1403,7 @@ bool CavityRun::GrowAtSlivers()
       }
     }
   }
+  added += CloseOverGroups();
   return added > 0;
 }
 

@@ -86,6 +86,14 @@ struct CavityOptions
   /// removal step is skipped and this cavity is refilled (it may still grow
   /// at forced slivers). Empty: the cavity comes from the removal test.
   std::vector<std::uint8_t> CavityCells;
+  /// Per tetrahedron of V, a group id (>= 0), or -1: the tetrahedra of one
+  /// group are removed together or kept together. For the tetrahedra a
+  /// caller split a kept cell into (e.g. the prism layers of an earlier
+  /// adaptation, split so that the new cavity may take them), which must
+  /// either go whole or come back as the cell. The cavity, from the removal
+  /// test, the given CavityCells or the growth at slivers, takes every group
+  /// it touches. Empty: none.
+  std::vector<std::int64_t> CellGroups;
   /// When not empty: the refill's complex is also written as TetGen input
   /// files under this prefix (see WriteTetGenFiles), the last attempt's.
   std::string RefillFilesPrefix;

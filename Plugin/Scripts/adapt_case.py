@@ -9,9 +9,9 @@ TARGET_CASE  a new (or empty) directory: cycle K's case is TARGET_CASE/cycleK,
              and TARGET_CASE/report.md says what each cycle did
 --cycles N   adapt-solve cycles (default 1). Cycle K > 1 adapts the solution
              of cycle K-1, so every cycle but the last needs --solve. With
-             prism layers (LayerType Prisms) on a 3-D mesh only one cycle:
-             cycle 1's layers would be kept cells in cycle 2, so it is
-             refused after cycle 1's adaptation, before anything is written
+             prism layers (LayerType Prisms) cycle K re-places cycle K-1's
+             layers where its cavity reaches them (EmbeddedRemesh releases
+             layers that float inside the mesh: RemovedLayerCells)
 --solve      run the case's own application (controlDict's `application`)
              to its endTime after writing it; without it the case is only
              written, ready to run
@@ -527,17 +527,6 @@ def main():
             report.append("**failed**: AdaptToShocks did not adapt the mesh (see its error above)")
             write_report()
             fail("AdaptToShocks did not adapt %s (its message is above)" % current)
-        if k == 1 and args.cycles > 1 and (field(out, "Prisms") or field(after, "Prisms") or [0])[0] > 0 and \
-                not (field(out, "TwoDimensional") or field(after, "TwoDimensional") or [0])[0]:
-            # EmbeddedRemesh remeshes tetrahedra only and keeps every other 3-D
-            # cell, so cycle 2 would find the re-fitted shock inside cycle 1's
-            # prisms and could not re-place them: say so before solving.
-            report.append("**refused**: %d cycles with prism layers on a 3-D mesh" % args.cycles)
-            write_report()
-            fail("%d cycles with prism layers on a 3-D mesh: cycle 1's prisms and pyramids would be kept cells "
-                 "in cycle 2 (EmbeddedRemesh remeshes tetrahedra only), where the re-fitted shock lies, so its "
-                 "layers could not be re-placed; run one cycle with layers, or the cycles with LayerType "
-                 "Tetrahedra (2-D layers can be cycled)" % args.cycles)
         with stages("shock measurement"):
             surfaces = split_surfaces(servermanager.Fetch(adapt, None, None, 1))
             h_in = (field(out, "InputSizeAtSurface") or field(after, "InputSizeAtSurface") or [float("nan")])[0]
@@ -598,6 +587,9 @@ def main():
         report.append("AdaptToShocks in %.1f s: %d surface(s) (%s); new cells at the shock %.2f of the input's size "
                       "(SurfaceSizeRatio)" % (seconds, len(templates), ", ".join(templates),
                                               (fd("SurfaceSizeRatio") or [float("nan")])[0]))
+        if (fd("RemovedLayerCells") or [0])[0] > 0:
+            report.append("; the input's layers re-placed: %d of its prisms and pyramids remeshed (RemovedLayerCells)"
+                          % fd("RemovedLayerCells")[0])
         if hist:
             edges, counts, worst = hist
             report += ["", "smallest dihedral angle of the new cells (degrees; min %.1f):" % worst, "",

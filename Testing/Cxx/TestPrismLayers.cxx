@@ -3,9 +3,11 @@
 // corner Jacobians for every prism, pyramid and tetrahedron, a conforming
 // and watertight hybrid mesh that conserves the volume, layers that shrink
 // without inverting on a cone and between two close surfaces, bad options.
+// Floating layers of an earlier cycle released as conforming tetrahedra (ARLayerRelease.h).
 // The checks below (corner tetrahedra, faces, volumes) are written here from
 // the VTK cell conventions, independently of the code under test.
 #include "ARCavity.h"
+#include "ARLayerRelease.h"
 #include "ARPrismLayers.h"
 #include "ARTetGeometry.h"
 #include "ARTestMeshes.h"
@@ -842,6 +844,132 @@ TEST(PrismLayers, SurfaceTrimmedAtTheDomainBoundaryGetsAClosedStack)
     nearest = std::min({ nearest, x[0], 1 - x[0], x[1], 1 - x[1], x[2], 1 - x[2] });
   }
   EXPECT_GT(nearest, 0.02) << "no stack point near the domain boundary";
+}
+
+// A second cycle's cavity through the first cycle's stack (ARLayerRelease.h):
+// the stack of a cavity refill, floating in the cube, is released one layer
+// and side at a time; its cells split into positive tetrahedra of the cells'
+// volumes that conform with each other and with the kept tetrahedra; a
+// cavity around a moved S takes the groups whole. A group with a face on the
+// domain boundary or a quad shared with another cell stays locked.
+TEST(PrismLayers, FloatingLayersAreReleasedAsConformingTetrahedra)
+{
+  const ar::TetMesh cube = KuhnCube(12);
+  const Surface s = TiltedPatch();
+  ar::CavityOptions o;
+  o.Layers.NumberOfLayers = 3;
+  o.Layers.FirstLayerThickness = 0.01;
+  ar::CavityRemesh r;
+  std::string error;
+  ASSERT_TRUE(ar::RemeshLocalCavity(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, r, error)) << error;
+  ar::LayerCells cells;
+  std::vector<int> layerOf, sideOf;
+  for (std::size_t c = 0; c < r.Prisms.size() / 6; ++c)
+  {
+    cells.Sizes.push_back(6);
+    cells.Ids.insert(cells.Ids.end(), &r.Prisms[6 * c], &r.Prisms[6 * c] + 6);
+    layerOf.push_back(r.PrismLayer[c]);
+    sideOf.push_back(r.PrismSide[c]);
+  }
+  for (std::size_t c = 0; c < r.Pyramids.size() / 5; ++c)
+  {
+    cells.Sizes.push_back(5);
+    cells.Ids.insert(cells.Ids.end(), &r.Pyramids[5 * c], &r.Pyramids[5 * c] + 5);
+    layerOf.push_back(r.PyramidLayer[c]);
+    sideOf.push_back(r.PyramidSide[c]);
+  }
+  const std::size_t n = cells.Sizes.size();
+  ASSERT_GT(r.Pyramids.size(), 0u);
+  const ar::LayerRelease rel =
+    ar::ReleaseFloatingLayers(r.Mesh.Points.data(), r.Mesh.Tetrahedra.data(), r.Mesh.NumberOfTetrahedra(), cells, {});
+  // One group per layer and side, each of one layer and side only.
+  EXPECT_EQ(rel.NumberOfGroups, 6);
+  std::map<std::int64_t, std::set<std::pair<int, int>>> of;
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    ASSERT_GE(rel.Group[c], 0) << "cell " << c;
+    of[rel.Group[c]].insert({ layerOf[c], sideOf[c] });
+  }
+  for (const auto& g : of)
+    EXPECT_EQ(g.second.size(), 1u) << "group " << g.first;
+  // Three tetrahedra a prism, two a pyramid, positive, of the cell's volume.
+  Hybrid h = FromCavity(r);
+  std::vector<double> split(n, 0.0);
+  std::vector<int> count(n, 0);
+  ar::TetMesh all = r.Mesh;
+  for (std::size_t t = 0; t < rel.TetrahedronCell.size(); ++t)
+  {
+    const std::int64_t* v = &rel.Tetrahedra[4 * t];
+    const double vol = ar::TetSignedVolume(&r.Mesh.Points[3 * v[0]], &r.Mesh.Points[3 * v[1]],
+      &r.Mesh.Points[3 * v[2]], &r.Mesh.Points[3 * v[3]]);
+    EXPECT_GT(vol, 0.0) << "tetrahedron " << t;
+    split[rel.TetrahedronCell[t]] += vol;
+    ++count[rel.TetrahedronCell[t]];
+    all.Tetrahedra.insert(all.Tetrahedra.end(), v, v + 4);
+  }
+  const std::size_t nTets = r.Mesh.NumberOfTetrahedra();
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    EXPECT_EQ(count[c], cells.Sizes[c] == 6 ? 3 : 2) << "cell " << c;
+    EXPECT_NEAR(split[c], CellVolume(h, h.Cells[nTets + c]), 1e-12 * CellVolume(h, h.Cells[nTets + c]))
+      << "cell " << c;
+  }
+  // With the kept tetrahedra: a conforming tetrahedral mesh of the cube.
+  Hybrid tetsOnly;
+  tetsOnly.Points = all.Points;
+  for (std::size_t c = 0; c < all.NumberOfTetrahedra(); ++c)
+  {
+    Cell cell{ Tetra, {}, -1, 0, -1 };
+    std::copy(&all.Tetrahedra[4 * c], &all.Tetrahedra[4 * c] + 4, cell.V.begin());
+    tetsOnly.Cells.push_back(cell);
+  }
+  ExpectValidCells(tetsOnly, "released stack");
+  EXPECT_EQ(TetBoundary(all), TetBoundary(cube));
+  EXPECT_NEAR(TetVolume(all), 1.0, 1e-12);
+
+  // A cavity around a quarter of S, moved along its normal, reaches part of
+  // every group and takes each whole.
+  ar::CavityOptions o2 = o;
+  o2.CellGroups.assign(nTets, -1);
+  for (std::size_t t = 0; t < rel.TetrahedronCell.size(); ++t)
+    o2.CellGroups.push_back(rel.Group[rel.TetrahedronCell[t]]);
+  Surface moved = Grid(5, 5, 0.25, 0.5, 0.25, 0.5, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.5 + 0.2 * (u - 0.5) - 0.1 * (v - 0.5) };
+  });
+  for (std::size_t i = 0; i < moved.Points.size() / 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      moved.Points[3 * i + k] += 0.012 * TiltedNormal[k];
+  ar::CavityRemesh r2;
+  ASSERT_TRUE(ar::RemeshLocalCavity(all, moved.Points.data(), moved.Points.size() / 3, moved.Triangles.data(),
+    moved.Triangles.size() / 3, o2, r2, error)) << error;
+  std::vector<int> keptOf(static_cast<std::size_t>(rel.NumberOfGroups), 0);
+  for (const std::int64_t src : r2.SourceCell)
+    if (src >= 0 && o2.CellGroups[src] >= 0)
+      ++keptOf[o2.CellGroups[src]];
+  for (std::int64_t g = 0; g < rel.NumberOfGroups; ++g)
+    EXPECT_EQ(keptOf[g], 0) << "group " << g << ": the cavity around the moved S took it whole";
+  ExpectValidCavity(all, r2, r2.SurfaceTrianglesUsed, 3, true, "moved S through the released stack");
+
+  // Locked: without the tetrahedra every group is on the boundary; a quad of
+  // another cell (here one pyramid's) locks that pyramid's group only.
+  const ar::LayerRelease bare = ar::ReleaseFloatingLayers(r.Mesh.Points.data(), nullptr, 0, cells, {});
+  EXPECT_EQ(bare.NumberOfGroups, 0);
+  EXPECT_TRUE(bare.Tetrahedra.empty());
+  const std::int64_t* q = &r.Pyramids[0];
+  const ar::LayerRelease hex = ar::ReleaseFloatingLayers(r.Mesh.Points.data(), r.Mesh.Tetrahedra.data(), nTets,
+    cells, { 4, q[0], q[1], q[2], q[3] });
+  EXPECT_EQ(hex.NumberOfGroups, 5);
+  for (std::size_t c = 0; c < n; ++c)
+    EXPECT_EQ(hex.Group[c] < 0, rel.Group[c] == rel.Group[r.Prisms.size() / 6]) << "cell " << c;
+  // Bad geometry: a prism flattened onto its bottom does not split; its group stays locked.
+  std::vector<double> flat = r.Mesh.Points;
+  for (int k = 3; k < 6; ++k)
+    for (int d = 0; d < 3; ++d)
+      flat[3 * r.Prisms[k] + d] = flat[3 * r.Prisms[k - 3] + d] + 1e-14 * (d + 1);
+  const ar::LayerRelease bad = ar::ReleaseFloatingLayers(flat.data(), r.Mesh.Tetrahedra.data(), nTets, cells, {});
+  EXPECT_EQ(bad.NumberOfGroups, 5);
+  EXPECT_LT(bad.Group[0], 0);
 }
 
 TEST(PrismLayers, RefusesBadInput)

@@ -19,8 +19,11 @@ solution made here: the first-order Mach 3 wedge of the validation matrix
   positive p and T on every cell;
 - bad input, each exit 1 with a message naming it and no case written: a
   source that is no case, a target that is not empty, two cycles without
-  --solve, a config naming a property AdaptToShocks does not have, two
-  cycles with prism layers on a 3-D mesh (a coarse cone made for it).
+  --solve, a config naming a property AdaptToShocks does not have;
+- two cycles with prism layers on a 3-D mesh (a coarse cone made for it,
+  solved to a bounded endTime): exit 0, both cycles solved, cycle 2 re-placed
+  every prism and pyramid of cycle 1 (the report's RemovedLayerCells equal to
+  cycle 1's count, read back from its case) and has layers of its own.
 """
 import json
 import os
@@ -195,17 +198,25 @@ with open(config, "w") as f:
     json.dump({"AdaptToShocks": {"NoSuchProperty": 1}}, f)
 refused([source, os.path.join(root, "bad4"), "--config", config], "no property NoSuchProperty", "a wrong property")
 
-# ---- Prism layers on a 3-D mesh cycle once: cycle 1's prisms would be kept
-# cells in cycle 2, where the re-fitted shock lies. Refused after cycle 1's
-# adaptation, before anything is written or solved. (A cone coarse enough to
-# solve in a minute, fine enough for its layers.)
+# ---- Prism layers on a 3-D mesh, two cycles: cycle 2's cavity takes cycle
+# 1's layers (they float inside the mesh) and builds its own. (A cone coarse
+# enough to solve in a minute, fine enough for its layers; cycle 1 solved to
+# a bounded end time, as the cycles above.)
 cone = os.path.join(root, "cone")
 rc, _ = artest.run([artest.require_program("python3", "python3"),
                     os.path.join(os.environ["AR_DATA_DIR"], "make_validation_case.py"), "cone15Ma3",
                     os.path.join(root, "cone.vtu"), "--keep", cone, "--refine", "0.8"])
 check(rc == 0 and os.path.isdir(cone), "the 3-D cone case was made and solved (exit %d)" % rc)
 with open(config, "w") as f:
-    json.dump({"AdaptToShocks": {"LayerType": "Prisms"}}, f)
-refused([cone, os.path.join(root, "bad5"), "--cycles", "2", "--solve", "--config", config],
-        "2 cycles with prism layers on a 3-D mesh", "two cycles with 3-D prism layers")
+    json.dump({"AdaptToShocks": {"LayerType": "Prisms"}, "controlDict": {"endTime": 0.002, "writeInterval": 0.002}}, f)
+t3 = os.path.join(root, "cone_cycles")
+rc, text = adapt_case(cone, t3, "--cycles", "2", "--solve", "--config", config)
+report = open(os.path.join(t3, "report.md")).read() if os.path.exists(os.path.join(t3, "report.md")) else ""
+replaced = [int(x) for x in re.findall(r"the input's layers re-placed: (\d+) of its prisms", report)]
+c1, c2 = read_case(os.path.join(t3, "cycle1"), 0.0), read_case(os.path.join(t3, "cycle2"), 0.0)
+layer_cells = lambda g: int(sum(1 for i in range(g.GetNumberOfCells()) if g.GetCellType(i) in (13, 14)))
+n1, n2 = layer_cells(c1), layer_cells(c2)
+check(rc == 0 and report.count("rhoCentralFoam: exit 0") == 2 and n1 > 0 and n2 > 0 and replaced == [n1],
+      "two cycles with 3-D prism layers: exit %d, both solved; cycle 2 re-placed all %s of cycle 1's %d prisms and "
+      "pyramids and has %d of its own" % (rc, replaced, n1, n2))
 artest.finish()

@@ -1046,6 +1046,7 @@ void vtkEmbeddedRemeshSummary::AddRefill(const ar::CavityRemesh& result)
   this->LimitedColumns = static_cast<double>(result.LimitedColumns);
   this->RefillAttempts = result.RefillAttempts;
   this->RefillPieces = static_cast<double>(result.RefillPieces);
+  this->SeparatorTriangles = static_cast<double>(result.SeparatorTriangles);
   for (const auto& [name, seconds] : { std::make_pair("SecondsSetup", result.Seconds.Setup),
          std::make_pair("SecondsRemoval", result.Seconds.Removal), std::make_pair("SecondsCavity", result.Seconds.Cavity),
          std::make_pair("SecondsLayers", result.Seconds.Layers), std::make_pair("SecondsRefill", result.Seconds.Refill),
@@ -1132,6 +1133,7 @@ void vtkEmbeddedRemeshSummary::Write(vtkUnstructuredGrid* output, const ar::Pris
   {
     field("RefillAttempts", this->RefillAttempts);
     field("RefillPieces", this->RefillPieces);
+    field("SeparatorTriangles", this->SeparatorTriangles);
   }
   vtkEmbeddedRemeshAddQualityFields(output, this->Quality);
   for (const auto& t : this->Seconds)

@@ -297,6 +297,7 @@ struct vtkEmbeddedRemeshSummary
   double LimitedColumns = 0.0;
   double RefillAttempts = 0.0;
   double RefillPieces = 0.0;           ///< the cavity's pieces refilled side by side (3-D)
+  double SeparatorTriangles = 0.0;     ///< the strip cutting the cavity in two for the refill (3-D; 0: none)
   double RemovedLayerCells = 0.0;      ///< prisms and pyramids of earlier layers the cavity took (3-D)
   double MinTriangleAngleNew = 0.0;    ///< 2-D only
   double PatchTrianglesNew = 0.0;      ///< 2-D only

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARCavity.h"
 #include "ARCGALTypes.h"
+#include "ARCavitySeparator.h"
 
 #include "ARMeshSize.h"
 #include "ARParallelFor.h"
@@ -29,6 +30,7 @@
 #include <cstring>
 #include <numeric>
 #include <sstream>
+#include <thread>
 
 namespace ar
 {
@@ -271,6 +273,7 @@ private:
   bool TrimSurface();
   bool CheckSelfIntersection();
   bool MarkRemovedNodes();
+  void AddSeparator();
   std::size_t CloseOverGroups();
   bool MarkCavity();
   void BuildCavityBoundary();
@@ -336,6 +339,7 @@ private:
   std::vector<double> nodeSize;
   std::int64_t nBoundaryNodes = 0;
   std::size_t nShell = 0;
+  std::size_t separatorPoints = 0;       // the last points of the complex: the separator's own (AddSeparator)
   std::vector<std::int64_t> keptBeyond; // per complex triangle: the kept cell beyond it, or -1
   TetGenResult refill;
   PrismStack stack;                      // the layer stack (options.Layers on)
@@ -383,21 +387,25 @@ bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
     {
       return false;
     }
+    AddSeparator();
     AddHolePoints();
     if (!Refill())
     {
       return false;
     }
-    // Slivers made of kept nodes only: grow the cavity there.
+    // Slivers at TetGen's own points, which its -O2 smoothing left (a 9.07
+    // degree tetrahedron of two kept and two new points on the 5e6 cube):
+    // those points move within their stars. The complex's points stay, but
+    // for the separator's own (the last of the complex): the strip only
+    // splits the refill, it is no surface of the output. First, so that a
+    // sliver the moves mend does not cost a refill.
+    SmoothFreePointsAtSlivers(refill.Mesh, plc.Points.size() / 3 - separatorPoints, SliverAngle());
+    // Slivers still there with three kept nodes: grow the cavity there.
     if (attempt == 2 || !GrowAtSlivers())
     {
       break;
     }
   }
-  // Slivers at TetGen's own points, which its -O2 smoothing left (a 9.07
-  // degree tetrahedron of two kept and two new points on the 5e6 cube): those
-  // points move within their stars. The complex's points stay.
-  SmoothFreePointsAtSlivers(refill.Mesh, plc.Points.size() / 3, SliverAngle());
   out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
   Lap(out.Seconds.Cavity);
   Assemble();
@@ -1256,6 +1264,67 @@ bool CavityRun::AddSurfaceOrStack(int attempt)
   return true;
 }
 
+// A large cavity without layers: the strip that, with S, cuts it in two
+// (ARCavitySeparator.h), as facets of marker 5 meshed on both sides.
+void CavityRun::AddSeparator()
+{
+  out.SeparatorTriangles = 0;
+  out.SeparatorSkipped.clear();
+  separatorPoints = 0;
+  const auto cells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
+  const std::size_t threads = Threads() == 0 ? std::thread::hardware_concurrency() : Threads();
+  if (layers || threads < 2 || cells < options.SplitRefillAbove)
+  {
+    return;
+  }
+  std::vector<std::int64_t> boundary(plc.Triangles.begin(), plc.Triangles.begin() + 3 * nShell), surface, strip;
+  for (std::size_t t = nShell; t < plc.TriangleMarkers.size(); ++t)
+  {
+    if (plc.TriangleMarkers[t] == 2)
+    {
+      surface.insert(surface.end(), &plc.Triangles[3 * t], &plc.Triangles[3 * t] + 3);
+    }
+  }
+  // The strip's triangles are kept as TetGen meets them (-Y): none under 5
+  // degrees (on the 1e6 and 5e6 benchmark cubes its worst is 9-12 degrees,
+  // 1 % under 24). Its own points may still move in the smoothing below.
+  std::vector<double> added;
+  if (!CavitySeparatingStrip(plc.Points, boundary, surface, 5.0, strip, added, out.SeparatorSkipped))
+  {
+    return;
+  }
+  // Its own points: sized as the strip's edges around them.
+  const std::size_t first = plc.Points.size() / 3;
+  plc.Points.insert(plc.Points.end(), added.begin(), added.end());
+  nodeSize.resize(plc.Points.size() / 3, 0.0);
+  std::vector<double> sum(added.size() / 3, 0.0);
+  std::vector<int> count(added.size() / 3, 0);
+  for (std::size_t t = 0; 3 * t < strip.size(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::int64_t a = strip[3 * t + k], b = strip[3 * t + (k + 1) % 3];
+      const double len = Distance(&plc.Points[3 * a], &plc.Points[3 * b]);
+      for (const std::int64_t v : { a, b })
+      {
+        if (static_cast<std::size_t>(v) >= first)
+        {
+          sum[v - first] += len;
+          ++count[v - first];
+        }
+      }
+    }
+  }
+  for (std::size_t i = 0; i < sum.size(); ++i)
+  {
+    nodeSize[first + i] = count[i] > 0 ? sum[i] / count[i] : 0.0;
+  }
+  plc.Triangles.insert(plc.Triangles.end(), strip.begin(), strip.end());
+  plc.TriangleMarkers.insert(plc.TriangleMarkers.end(), strip.size() / 3, 5);
+  out.SeparatorTriangles = strip.size() / 3;
+  separatorPoints = added.size() / 3;
+}
+
 void CavityRun::AddHolePoints()
 {
   // One hole point per patch of kept faces on the cavity's boundary (kept
@@ -1323,7 +1392,7 @@ bool CavityRun::Refill()
   for (std::size_t t = 0; t < meshed.size(); ++t)
   {
     const int marker = plc.TriangleMarkers[t];
-    meshed[t] = marker == 2 ? MeshedBoth : (marker == 4 ? MeshedFront : MeshedBack);
+    meshed[t] = marker == 2 || marker == 5 ? MeshedBoth : (marker == 4 ? MeshedFront : MeshedBack);
   }
   const bool refilled = TetGenMeshComplexInPieces(plc, meshed, options.Quality, static_cast<unsigned>(Threads()), refill, error);
   out.RefillPieces = refill.Pieces;
@@ -1350,7 +1419,15 @@ bool CavityRun::GrowAtSlivers()
     {
       boundaryNodes += v[k] < nBoundaryNodes ? 1 : 0;
     }
-    if (boundaryNodes < 3)
+    // (A sliver at the separator's own points is left to the smoothing,
+    // which may move them.)
+    const auto firstSeparator = static_cast<std::int64_t>(plc.Points.size() / 3 - separatorPoints);
+    bool atSeparator = false;
+    for (int k = 0; k < 4; ++k)
+    {
+      atSeparator = atSeparator || (v[k] >= firstSeparator && v[k] < static_cast<std::int64_t>(plc.Points.size() / 3));
+    }
+    if (boundaryNodes < 3 || atSeparator)
     {
       continue;
     }

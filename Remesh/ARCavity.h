@@ -107,6 +107,13 @@ struct CavityOptions
   /// separate (ARTetGenPieces.h), side by side. The output is the same with
   /// any number. 0: the hardware's.
   int Threads = 0;
+  /// A cavity of at least this many tetrahedra, refilled with Threads > 1
+  /// and without layers, is cut in two by a strip from S's border to its
+  /// boundary (ARCavitySeparator.h; marker 5 in the refill's complex), so
+  /// that its two halves are refilled side by side: a cavity around one
+  /// shock is otherwise one piece. Smaller cavities are refilled whole (the
+  /// second process does not pay for itself there).
+  std::size_t SplitRefillAbove = 200000;
   /// Prism layers on both sides of S (ARPrismLayers.h); NumberOfLayers = 0
   /// (the default) leaves them off and the refill is tetrahedra only. When on:
   ///  - the removal radius grows by the stack's height z_N: V_j goes when it
@@ -145,6 +152,8 @@ struct CavityRemesh
   } Seconds;
   int RefillAttempts = 0; ///< TetGen runs (more than one when the cavity grew at forced slivers)
   std::size_t RefillPieces = 0; ///< the last refill's pieces, meshed side by side (1: the cavity whole)
+  std::size_t SeparatorTriangles = 0; ///< the last refill's strip cutting the cavity in two (0: none)
+  std::string SeparatorSkipped;       ///< why there was none where one was tried (empty: none tried, or made)
   std::size_t SurfaceTrianglesAtLockedCells = 0; ///< S triangles dropped at the locked cells
 
   // ---- Prism layers (options.Layers on); all empty otherwise.

@@ -840,3 +840,53 @@ TEST(Cavity, SliversAtFreePointsAreSmoothedAway)
   EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 9, 10.0), 0u);
   EXPECT_EQ(star.Points[3 * 8 + 2], 0.04);
 }
+
+// A large cavity's refill cut in two by a strip from S's border to the
+// cavity's boundary (ARCavitySeparator.h), so that one shock's cavity is
+// refilled by two TetGen processes: with the split forced (SplitRefillAbove
+// 0, two threads) a plane across the cube gives two pieces and a strip, and
+// the mesh is as valid as without it: positive, conforming, the boundary and
+// volume kept, S embedded, the new tetrahedra at 10 degrees or more. With
+// the default threshold, or one thread, this small cavity is refilled
+// whole, as before; a strip that would cross the cavity's boundary is
+// refused and leaves no trace.
+TEST(Cavity, LargeCavityIsRefilledInTwoPiecesThroughASeparatingStrip)
+{
+  const ar::TetMesh cube = KuhnCube(14);
+  const Surface across = Grid(24, 24, -0.2, 1.2, -0.2, 1.2, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.45 + 0.1 * u };
+  });
+  for (const Surface* s : { &across })
+  {
+    ar::CavityOptions o;
+    o.Threads = 2;
+    const ar::CavityRemesh whole = Remesh(cube, *s, o);
+    EXPECT_EQ(whole.SeparatorTriangles, 0u) << "a small cavity: no strip by default";
+    EXPECT_EQ(whole.RefillPieces, 1u);
+    o.SplitRefillAbove = 0;
+    const ar::CavityRemesh split = Remesh(cube, *s, o);
+    EXPECT_GT(split.SeparatorTriangles, 0u) << split.SeparatorSkipped;
+    EXPECT_EQ(split.RefillPieces, 2u);
+    ExpectValid(cube, split);
+    EXPECT_EQ(split.Surface.size(), whole.Surface.size()) << "S is embedded as it is";
+    EXPECT_GE(MinNewDihedral(split), 10.0);
+    // One thread: no split.
+    o.Threads = 1;
+    EXPECT_EQ(Remesh(cube, *s, o).SeparatorTriangles, 0u);
+  }
+  // A patch with its border inside the cavity: the strip to the kept faces
+  // around it (a staircase) would cross them, so there is none, and the
+  // refill is the whole cavity's, the same as without the option.
+  ar::CavityOptions o;
+  o.Threads = 2;
+  o.SplitRefillAbove = 0;
+  const ar::CavityRemesh inner = Remesh(cube, TiltedPatch(), o);
+  EXPECT_EQ(inner.SeparatorTriangles, 0u);
+  EXPECT_NE(inner.SeparatorSkipped.find("cross"), std::string::npos) << inner.SeparatorSkipped;
+  EXPECT_EQ(inner.RefillPieces, 1u);
+  ExpectValid(cube, inner);
+  o.SplitRefillAbove = ar::CavityOptions().SplitRefillAbove;
+  const ar::CavityRemesh plain = Remesh(cube, TiltedPatch(), o);
+  EXPECT_EQ(inner.Mesh.Points, plain.Mesh.Points);
+  EXPECT_EQ(inner.Mesh.Tetrahedra, plain.Mesh.Tetrahedra);
+}

@@ -391,7 +391,26 @@ bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
     AddHolePoints();
     if (!Refill())
     {
-      return false;
+      if (separatorPoints == 0 && out.SeparatorTriangles == 0)
+      {
+        return false;
+      }
+      // The strip made the complex fail (a crossing its test missed): the
+      // cavity whole, as without it.
+      BuildCavityBoundary();
+      if (!CheckSurfaceInsideCavity() || !AddSurfaceOrStack(attempt))
+      {
+        return false;
+      }
+      out.SeparatorSkipped = "the refill failed with it: " + error;
+      out.SeparatorTriangles = 0;
+      separatorPoints = 0;
+      error.clear();
+      AddHolePoints();
+      if (!Refill())
+      {
+        return false;
+      }
     }
     // Slivers at TetGen's own points, which its -O2 smoothing left (a 9.07
     // degree tetrahedron of two kept and two new points on the 5e6 cube):
@@ -1272,8 +1291,9 @@ void CavityRun::AddSeparator()
   out.SeparatorSkipped.clear();
   separatorPoints = 0;
   const auto cells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
-  const std::size_t threads = Threads() == 0 ? std::thread::hardware_concurrency() : Threads();
-  if (layers || threads < 2 || cells < options.SplitRefillAbove)
+  // (Whatever the threads: the output must not depend on them; with one
+  // the two halves are refilled one after the other.)
+  if (layers || cells < options.SplitRefillAbove)
   {
     return;
   }
@@ -1419,15 +1439,7 @@ bool CavityRun::GrowAtSlivers()
     {
       boundaryNodes += v[k] < nBoundaryNodes ? 1 : 0;
     }
-    // (A sliver at the separator's own points is left to the smoothing,
-    // which may move them.)
-    const auto firstSeparator = static_cast<std::int64_t>(plc.Points.size() / 3 - separatorPoints);
-    bool atSeparator = false;
-    for (int k = 0; k < 4; ++k)
-    {
-      atSeparator = atSeparator || (v[k] >= firstSeparator && v[k] < static_cast<std::int64_t>(plc.Points.size() / 3));
-    }
-    if (boundaryNodes < 3 || atSeparator)
+    if (boundaryNodes < 3)
     {
       continue;
     }

@@ -107,10 +107,11 @@ struct CavityOptions
   /// separate (ARTetGenPieces.h), side by side. The output is the same with
   /// any number. 0: the hardware's.
   int Threads = 0;
-  /// A cavity of at least this many tetrahedra, refilled with Threads > 1
-  /// and without layers, is cut in two by a strip from S's border to its
-  /// boundary (ARCavitySeparator.h; marker 5 in the refill's complex), so
-  /// that its two halves are refilled side by side: a cavity around one
+  /// A cavity of at least this many tetrahedra, refilled without layers, is
+  /// cut in two by a strip from S's border to its boundary
+  /// (ARCavitySeparator.h; marker 5 in the refill's complex), so that its
+  /// two halves are refilled side by side (one after the other with one
+  /// thread: the output does not depend on Threads): a cavity around one
   /// shock is otherwise one piece. Smaller cavities are refilled whole (the
   /// second process does not pay for itself there).
   std::size_t SplitRefillAbove = 200000;

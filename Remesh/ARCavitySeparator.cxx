@@ -282,8 +282,11 @@ std::vector<double> Resample(const std::vector<double>& pts, std::size_t n)
   return out;
 }
 
-/// Whether a strip triangle crosses another triangle of the complex (not
-/// counting triangles that share a point).
+/// Whether a strip triangle crosses another triangle of the complex: apart,
+/// they may not meet; sharing a point, each one's far edge must miss the
+/// other (a crossing through the shared point's own edges goes unseen:
+/// the refill then fails and is made without the strip); sharing an edge,
+/// they may not fold onto each other.
 bool StripCrosses(const Geometry& g, const std::vector<std::int64_t>& strip, const std::vector<std::int64_t>& others)
 {
   auto tri = [&](const std::vector<std::int64_t>& v, std::size_t t) {
@@ -311,18 +314,43 @@ bool StripCrosses(const Geometry& g, const std::vector<std::int64_t>& strip, con
     }
     const std::int64_t* p = ids(x.info());
     const std::int64_t* q = ids(y.info());
+    int inP[3] = { -1, -1, -1 }; // per point of p: its place in q, or -1
+    int shared = 0;
     for (int i = 0; i < 3; ++i)
     {
       for (int j = 0; j < 3; ++j)
       {
         if (p[i] == q[j])
         {
-          return;
+          inP[i] = j;
+          ++shared;
         }
       }
     }
     const Tri s(g.At(p[0]), g.At(p[1]), g.At(p[2])), o(g.At(q[0]), g.At(q[1]), g.At(q[2]));
-    crosses = CGAL::do_intersect(s, o);
+    if (shared == 0)
+    {
+      crosses = CGAL::do_intersect(s, o);
+    }
+    else if (shared == 1)
+    {
+      // Each one's edge away from the shared point must miss the other.
+      const int i = inP[0] >= 0 ? 0 : inP[1] >= 0 ? 1 : 2, j = inP[i];
+      const K::Segment_3 ep(g.At(p[(i + 1) % 3]), g.At(p[(i + 2) % 3])), eq(g.At(q[(j + 1) % 3]), g.At(q[(j + 2) % 3]));
+      crosses = CGAL::do_intersect(ep, o) || CGAL::do_intersect(eq, s);
+    }
+    else if (shared == 2)
+    {
+      // Folded onto each other: coplanar, the far points on one side of the edge.
+      const int i = inP[0] < 0 ? 0 : inP[1] < 0 ? 1 : 2;
+      int j = 0;
+      while (q[j] == p[(i + 1) % 3] || q[j] == p[(i + 2) % 3])
+      {
+        ++j;
+      }
+      const Pt a = g.At(p[(i + 1) % 3]), b = g.At(p[(i + 2) % 3]), c = g.At(p[i]), d = g.At(q[j]);
+      crosses = CGAL::orientation(a, b, c, d) == CGAL::COPLANAR && CGAL::coplanar_orientation(a, b, c, d) == CGAL::POSITIVE;
+    }
   });
   return crosses;
 }

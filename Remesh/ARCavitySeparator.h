@@ -28,8 +28,10 @@
  *    passes, a move kept where its triangles' smallest angle does not fall);
  *  - refused (no strip) where a triangle of the strip has an angle under
  *    `minAngle` degrees, or crosses S, the boundary or another strip
- *    triangle (CGAL, exact predicates; triangles sharing a point are not
- *    tested against each other).
+ *    triangle (CGAL, exact predicates; triangles sharing a point: each
+ *    one's edge away from it against the other; sharing an edge: folded
+ *    onto each other). A crossing this misses makes TetGen fail, and the
+ *    cavity is then refilled whole (ARCavity.cxx).
  * The strip's border is S's border and boundary edges; TetGen, which keeps
  * every facet (-Y), meets it alike from both sides. Its own points are new
  * points of the refill (free to move in the sliver smoothing afterwards:

@@ -92,14 +92,14 @@ for n in args.sizes:
     v = lambda name: fd.GetArray(name).GetValue(0)
     rows.append((grid.GetNumberOfCells(), t_sensor, v("SecondsSensor"), t_clusters, v("SecondsClusters"), t_fit,
                  v("SecondsFit"), t_remesh, v("SecondsRemesh"), parts, t_all, t_all / parts,
-                 int(v("InputNodes")), int(v("OutputNodes")), v("SurfaceSizeRatio"),
-                 out.GetNumberOfPoints() == separate.GetNumberOfPoints(), peak_mb()))
+                 int(v("InputNodes")), int(v("OutputNodes")), v("SurfaceSizeRatio"), int(v("RefillPieces")),
+                 v("MinDihedralAngleNew"), out.GetNumberOfPoints() == separate.GetNumberOfPoints(), peak_mb()))
     Delete(adapt)
     Delete(src)
     del grid, out, separate
 
 say("| tets | sensor (parts / step) s | clusters s | fit s | remesh s | sum of parts s | AdaptToShocks s | step / parts "
-    "| nodes in -> out | size ratio at S | same mesh | peak RSS MB |")
-say("|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|---:|")
+    "| nodes in -> out | size ratio at S | refill pieces | smallest new angle | same mesh | peak RSS MB |")
+say("|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---|---:|")
 for r in rows:
-    say("| %d | %.2f / %.2f | %.2f / %.2f | %.2f / %.2f | %.2f / %.2f | %.2f | %.2f | %.2f | %d -> %d | %.2f | %s | %.0f |" % r)
+    say("| %d | %.2f / %.2f | %.2f / %.2f | %.2f / %.2f | %.2f / %.2f | %.2f | %.2f | %.2f | %d -> %d | %.2f | %d | %.2f | %s | %.0f |" % r)

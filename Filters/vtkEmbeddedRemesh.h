@@ -6,7 +6,10 @@
  *
  * Input port 0: the volume mesh V (vtkUnstructuredGrid; tetrahedra are
  * remeshed, other 3-D cells are kept as they are and their nodes never
- * move; triangles, quads and polygons, e.g. boundary-patch faces with a
+ * move, except prism layers floating inside the mesh, an earlier
+ * adaptation's, which the cavity may take a layer at a time
+ * (Remesh/ARLayerRelease.h, field data RemovedLayerCells; serial only);
+ * triangles, quads and polygons, e.g. boundary-patch faces with a
  * PatchId, are kept too), or a vtkMultiBlockDataSet as ParaView's OpenFOAM
  * reader gives (the "internalMesh" leaf, else the first leaf with 3-D cells,
  * is remeshed; the patch leaves pass through: the boundary does not change,

@@ -298,86 +298,49 @@ int vtkEmbeddedRemesh::ExecuteData(
 namespace
 {
 /// The prisms and pyramids an earlier adaptation left floating in the mesh
-/// (ARLayerRelease.h), split so that the cavity may take them: `released`
-/// their input cells, `release` the groups and the tetrahedra.
+/// (ARLayerRelease.h), split so that the cavity may take them.
 struct ReleasedLayers
 {
-  std::vector<vtkIdType> Cell;  ///< per cell of `Release`: its input cell
+  std::vector<vtkIdType> Cell; ///< per cell of `Release`: its input cell
   ar::LayerRelease Release;
-  std::vector<char> IsReleased; ///< per input cell
 };
 
-ReleasedLayers FindReleasedLayers(vtkUnstructuredGrid* input)
+/// Keeps input cell `c` as it is: its nodes locked, and a 3-D cell's faces
+/// bound the region S is trimmed at (LockedCellFaces).
+void LockCell(vtkUnstructuredGrid* input, vtkIdType c, vtkIdType npts, const vtkIdType* pts, vtkGenericCell* cell,
+  ar::CavityOptions& options, std::vector<vtkIdType>& otherCell)
 {
-  ReleasedLayers r;
-  const vtkIdType nCells = input->GetNumberOfCells();
-  ar::LayerCells cells;
-  std::vector<std::int64_t> tets, otherFaces;
-  vtkNew<vtkIdList> ids;
-  vtkNew<vtkGenericCell> cell;
-  for (vtkIdType c = 0; c < nCells; ++c)
+  for (vtkIdType k = 0; k < npts; ++k)
   {
-    const int type = input->GetCellType(c);
-    if (type == VTK_WEDGE || type == VTK_PYRAMID)
-    {
-      r.Cell.push_back(c);
-    }
+    options.LockedNodes[pts[k]] = 1;
   }
-  if (r.Cell.empty())
+  otherCell.push_back(c);
+  if (vtkCellTypes::GetDimension(input->GetCellType(c)) == 3)
   {
-    return r;
-  }
-  for (vtkIdType c = 0; c < nCells; ++c)
-  {
-    const int type = input->GetCellType(c);
-    vtkIdType npts;
-    const vtkIdType* pts;
-    input->GetCellPoints(c, npts, pts, ids);
-    if (type == VTK_TETRA)
+    input->GetCell(c, cell);
+    for (int f = 0; f < cell->GetNumberOfFaces(); ++f)
     {
-      tets.insert(tets.end(), pts, pts + 4);
-    }
-    else if (type == VTK_WEDGE || type == VTK_PYRAMID)
-    {
-      cells.Sizes.push_back(static_cast<int>(npts));
-      cells.Ids.insert(cells.Ids.end(), pts, pts + npts);
-    }
-    else if (vtkCellTypes::GetDimension(type) == 3)
-    {
-      input->GetCell(c, cell);
-      for (int f = 0; f < cell->GetNumberOfFaces(); ++f)
+      vtkCell* face = cell->GetFace(f);
+      options.LockedCellFaces.push_back(face->GetNumberOfPoints());
+      for (vtkIdType k = 0; k < face->GetNumberOfPoints(); ++k)
       {
-        vtkCell* face = cell->GetFace(f);
-        otherFaces.push_back(face->GetNumberOfPoints());
-        for (vtkIdType k = 0; k < face->GetNumberOfPoints(); ++k)
-        {
-          otherFaces.push_back(face->GetPointId(k));
-        }
+        options.LockedCellFaces.push_back(face->GetPointId(k));
       }
     }
   }
-  std::vector<double> X(3 * static_cast<std::size_t>(input->GetNumberOfPoints()));
-  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
-  {
-    input->GetPoint(i, &X[3 * i]);
-  }
-  r.Release = ar::ReleaseFloatingLayers(X.data(), tets.data(), tets.size() / 4, cells, otherFaces);
-  r.IsReleased.assign(static_cast<std::size_t>(nCells), 0);
-  for (std::size_t k = 0; k < r.Cell.size(); ++k)
-  {
-    r.IsReleased[r.Cell[k]] = r.Release.Group[k] >= 0 ? 1 : 0;
-  }
-  return r;
 }
 
 /// V for the core: the input's tetrahedra (`tetCell`: their input cells),
 /// then the released layers' tetrahedra (their input cell; in
 /// options.CellGroups their group); the other 3-D cells and the
-/// boundary-patch faces kept (`otherCell`), their nodes locked and the 3-D
-/// ones' faces given as LockedCellFaces. False with `problem` for a cell type
-/// EmbeddedRemesh does not take.
-bool SplitVolume(vtkUnstructuredGrid* input, const ReleasedLayers& released, ar::TetMesh& tets,
-  ar::CavityOptions& options, std::vector<vtkIdType>& tetCell, std::vector<vtkIdType>& otherCell, std::string& problem)
+/// boundary-patch faces kept (`otherCell`, in input order), their nodes
+/// locked and the 3-D ones' faces given as LockedCellFaces. The prisms and
+/// pyramids are released where ARLayerRelease allows it, against the
+/// tetrahedra and the faces of the other kept 3-D cells, and locked
+/// otherwise. False with `problem` for a cell type EmbeddedRemesh does not
+/// take.
+bool SplitVolume(vtkUnstructuredGrid* input, ar::TetMesh& tets, ar::CavityOptions& options,
+  std::vector<vtkIdType>& tetCell, std::vector<vtkIdType>& otherCell, ReleasedLayers& released, std::string& problem)
 {
   const vtkIdType nPoints = input->GetNumberOfPoints();
   tets.Points.resize(3 * nPoints);
@@ -387,7 +350,7 @@ bool SplitVolume(vtkUnstructuredGrid* input, const ReleasedLayers& released, ar:
   }
   options.LockedNodes.assign(nPoints, 0);
   const vtkIdType nCells = input->GetNumberOfCells();
-  vtkIdType nTets = static_cast<vtkIdType>(released.Release.TetrahedronCell.size());
+  vtkIdType nTets = 0;
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     nTets += input->GetCellType(c) == VTK_TETRA ? 1 : 0;
@@ -396,6 +359,7 @@ bool SplitVolume(vtkUnstructuredGrid* input, const ReleasedLayers& released, ar:
   tetCell.reserve(static_cast<std::size_t>(nTets));
   vtkNew<vtkIdList> ids;
   vtkNew<vtkGenericCell> lockedCell;
+  ar::LayerCells layers; // the prisms and pyramids, decided on below
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     const int type = input->GetCellType(c);
@@ -407,35 +371,19 @@ bool SplitVolume(vtkUnstructuredGrid* input, const ReleasedLayers& released, ar:
       tets.Tetrahedra.insert(tets.Tetrahedra.end(), pts, pts + 4);
       tetCell.push_back(c);
     }
-    else if (!released.IsReleased.empty() && released.IsReleased[c])
+    else if (type == VTK_WEDGE || type == VTK_PYRAMID)
     {
-      continue; // its tetrahedra follow
+      layers.Sizes.push_back(static_cast<int>(npts));
+      layers.Ids.insert(layers.Ids.end(), pts, pts + npts);
+      released.Cell.push_back(c);
     }
-    else if (type == VTK_HEXAHEDRON || type == VTK_WEDGE || type == VTK_PYRAMID ||
-      type == VTK_VOXEL || type == VTK_POLYHEDRON || type == VTK_TRIANGLE || type == VTK_QUAD ||
-      type == VTK_POLYGON)
+    else if (type == VTK_HEXAHEDRON || type == VTK_VOXEL || type == VTK_POLYHEDRON || type == VTK_TRIANGLE ||
+      type == VTK_QUAD || type == VTK_POLYGON)
     {
       // Kept as they are: other 3-D cells, and boundary-patch faces (2-D
-      // cells with a PatchId, as the solver writers take them).
-      for (vtkIdType k = 0; k < npts; ++k)
-      {
-        options.LockedNodes[pts[k]] = 1;
-      }
-      otherCell.push_back(c);
-      // The 3-D ones (e.g. near-wall layers) bound a region S is trimmed at.
-      if (vtkCellTypes::GetDimension(type) == 3)
-      {
-        input->GetCell(c, lockedCell);
-        for (int f = 0; f < lockedCell->GetNumberOfFaces(); ++f)
-        {
-          vtkCell* face = lockedCell->GetFace(f);
-          options.LockedCellFaces.push_back(face->GetNumberOfPoints());
-          for (vtkIdType k = 0; k < face->GetNumberOfPoints(); ++k)
-          {
-            options.LockedCellFaces.push_back(face->GetPointId(k));
-          }
-        }
-      }
+      // cells with a PatchId, as the solver writers take them). The 3-D
+      // ones (e.g. near-wall layers) bound a region S is trimmed at.
+      LockCell(input, c, npts, pts, lockedCell, options, otherCell);
     }
     else
     {
@@ -448,7 +396,26 @@ bool SplitVolume(vtkUnstructuredGrid* input, const ReleasedLayers& released, ar:
       return false;
     }
   }
-  const ar::LayerRelease& lr = released.Release;
+  if (released.Cell.empty())
+  {
+    return true;
+  }
+  // LockedCellFaces holds the other 3-D cells' faces so far: what a layer
+  // must not share a quad with.
+  ar::LayerRelease& lr = released.Release;
+  lr = ar::ReleaseFloatingLayers(tets.Points.data(), tets.Tetrahedra.data(), tets.NumberOfTetrahedra(), layers,
+    options.LockedCellFaces);
+  for (std::size_t k = 0; k < released.Cell.size(); ++k)
+  {
+    if (lr.Group[k] < 0)
+    {
+      vtkIdType npts;
+      const vtkIdType* pts;
+      input->GetCellPoints(released.Cell[k], npts, pts, ids);
+      LockCell(input, released.Cell[k], npts, pts, lockedCell, options, otherCell);
+    }
+  }
+  std::sort(otherCell.begin(), otherCell.end()); // input order, as the kept cells come out
   if (!lr.TetrahedronCell.empty())
   {
     options.CellGroups.assign(tetCell.size(), -1);
@@ -688,8 +655,8 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   ar::TetMesh tets;
   ar::CavityOptions options;
   std::vector<vtkIdType> tetCell, otherCell;
-  const ReleasedLayers released = FindReleasedLayers(input);
-  if (!SplitVolume(input, released, tets, options, tetCell, otherCell, problem))
+  ReleasedLayers released;
+  if (!SplitVolume(input, tets, options, tetCell, otherCell, released, problem))
   {
     return passThrough(problem);
   }

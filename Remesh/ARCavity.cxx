@@ -30,7 +30,6 @@
 #include <cstring>
 #include <numeric>
 #include <sstream>
-#include <thread>
 
 namespace ar
 {
@@ -40,10 +39,8 @@ using cgal::Kernel;
 using cgal::Point;
 using Segment = Kernel::Segment_3;
 using Ray = Kernel::Ray_3;
-using Triangle = Kernel::Triangle_3;
-using TriangleIterator = std::vector<Triangle>::const_iterator;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using cgal::Triangle;
+using Tree = cgal::TriangleTree;
 using IndexedPoint = boost::tuple<Point, std::size_t>;
 using SearchTraits = CGAL::Search_traits_adapter<IndexedPoint,
   CGAL::Nth_of_tuple_property_map<0, IndexedPoint>, CGAL::Search_traits_3<Kernel>>;
@@ -273,7 +270,7 @@ private:
   bool TrimSurface();
   bool CheckSelfIntersection();
   bool MarkRemovedNodes();
-  void AddSeparator();
+  void AddSeparator(bool wanted);
   std::size_t CloseOverGroups();
   bool MarkCavity();
   void BuildCavityBoundary();
@@ -380,6 +377,7 @@ bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
   // cavity's boundary has a pocket of nearly coplanar kept nodes it must make
   // a sliver from them: the kept cells at such slivers join the cavity and
   // the refill is repeated (at most twice).
+  bool separator = true; // off once a refill failed with one
   for (int attempt = 0;; ++attempt)
   {
     BuildCavityBoundary();
@@ -387,30 +385,21 @@ bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
     {
       return false;
     }
-    AddSeparator();
+    AddSeparator(separator);
     AddHolePoints();
     if (!Refill())
     {
-      if (separatorPoints == 0 && out.SeparatorTriangles == 0)
+      if (out.SeparatorTriangles == 0)
       {
         return false;
       }
-      // The strip made the complex fail (a crossing its test missed): the
-      // cavity whole, as without it.
-      BuildCavityBoundary();
-      if (!CheckSurfaceInsideCavity() || !AddSurfaceOrStack(attempt))
-      {
-        return false;
-      }
+      // The strip made the complex fail (a crossing its test missed): this
+      // attempt again, the cavity whole, as without it.
+      separator = false;
       out.SeparatorSkipped = "the refill failed with it: " + error;
-      out.SeparatorTriangles = 0;
-      separatorPoints = 0;
       error.clear();
-      AddHolePoints();
-      if (!Refill())
-      {
-        return false;
-      }
+      --attempt;
+      continue;
     }
     // Slivers at TetGen's own points, which its -O2 smoothing left (a 9.07
     // degree tetrahedron of two kept and two new points on the 5e6 cube):
@@ -443,6 +432,12 @@ bool CavityRun::Validate()
   if (nSurfacePoints < 3 || nSurfaceTriangles == 0)
   {
     error = "the feature surface is empty (no triangles).";
+    return false;
+  }
+  if (!options.CellGroups.empty() && options.CellGroups.size() != nT)
+  {
+    error = "CellGroups has " + std::to_string(options.CellGroups.size()) + " entries for " + std::to_string(nT) +
+      " tetrahedra.";
     return false;
   }
   if (!Finite(V.Points))
@@ -1041,12 +1036,6 @@ bool CavityRun::MarkCavity()
       cavity[t] = cavity[t] || removed[V.Tetrahedra[4 * t + k]];
     }
   }
-  if (!options.CellGroups.empty() && options.CellGroups.size() != nT)
-  {
-    error = "CellGroups has " + std::to_string(options.CellGroups.size()) + " entries for " + std::to_string(nT) +
-      " tetrahedra.";
-    return false;
-  }
   CloseOverGroups();
   out.RemovedCells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
   if (out.RemovedCells == 0)
@@ -1284,12 +1273,17 @@ bool CavityRun::AddSurfaceOrStack(int attempt)
 }
 
 // A large cavity without layers: the strip that, with S, cuts it in two
-// (ARCavitySeparator.h), as facets of marker 5 meshed on both sides.
-void CavityRun::AddSeparator()
+// (ARCavitySeparator.h), as facets of marker 5 meshed on both sides. None
+// when not `wanted` (SeparatorSkipped then says why).
+void CavityRun::AddSeparator(bool wanted)
 {
   out.SeparatorTriangles = 0;
-  out.SeparatorSkipped.clear();
   separatorPoints = 0;
+  if (!wanted)
+  {
+    return;
+  }
+  out.SeparatorSkipped.clear();
   const auto cells = static_cast<std::size_t>(std::count(cavity.begin(), cavity.end(), char(1)));
   // (Whatever the threads: the output must not depend on them; with one
   // the two halves are refilled one after the other.)

@@ -24,10 +24,8 @@ namespace
 {
 using K = cgal::Kernel;
 using Pt = K::Point_3;
-using Tri = K::Triangle_3;
-using TriIterator = std::vector<Tri>::const_iterator;
-using Primitive = CGAL::AABB_triangle_primitive<K, TriIterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+using Tri = cgal::Triangle;
+using Tree = cgal::TriangleTree;
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
 using Loop = std::vector<std::int64_t>;
 using Edge = std::pair<std::int64_t, std::int64_t>;
@@ -414,13 +412,14 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
   }
   // ---- Match each border loop with the nearest boundary loop, one to one.
   std::vector<int> match(sLoops.size(), -1);
+  std::vector<std::vector<std::size_t>> nearOf(sLoops.size()); // per border point: the nearest of its match
   std::vector<char> taken(bLoops.size(), 0);
   for (std::size_t s = 0; s < sLoops.size(); ++s)
   {
     double best = std::numeric_limits<double>::max();
     for (std::size_t b = 0; b < bLoops.size(); ++b)
     {
-      const std::vector<std::size_t> near = Nearest(g, sLoops[s], bLoops[b]);
+      std::vector<std::size_t> near = Nearest(g, sLoops[s], bLoops[b]);
       double sum = 0.0;
       for (std::size_t i = 0; i < near.size(); ++i)
       {
@@ -430,6 +429,7 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
       {
         best = sum;
         match[s] = static_cast<int>(b);
+        nearOf[s] = std::move(near);
       }
     }
     if (taken[match[s]])
@@ -476,7 +476,7 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
   {
     const Loop& b = sLoops[s];
     Loop l = bLoops[match[s]];
-    std::vector<std::size_t> near = Nearest(g, b, l);
+    std::vector<std::size_t>& near = nearOf[s];
     double along = 0.0;
     const std::size_t k = l.size();
     for (std::size_t i = 0; i < b.size(); ++i)
@@ -488,7 +488,10 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
     if (along < 0.0)
     {
       std::reverse(l.begin(), l.end());
-      near = Nearest(g, b, l);
+      for (std::size_t& j : near)
+      {
+        j = k - 1 - j;
+      }
     }
     std::vector<std::int64_t> direct;
     std::vector<Edge> rungs;

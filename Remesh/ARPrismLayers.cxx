@@ -29,10 +29,8 @@ namespace
 using cgal::Kernel;
 using cgal::Point;
 using Ray = Kernel::Ray_3;
-using Triangle = Kernel::Triangle_3;
-using TriangleIterator = std::vector<Triangle>::const_iterator;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using cgal::Triangle;
+using Tree = cgal::TriangleTree;
 using Vec = Eigen::Vector3d;
 
 constexpr double Pi = 3.14159265358979323846;
@@ -656,7 +654,7 @@ double LayerBuild::freeDistance(const Vec& x, const Vec& d, std::int64_t skipA, 
   {
     dist = HitDistance(obstacleTree.first_intersection(ray), origin);
   }
-  auto skip = [&](const TriangleIterator& it) {
+  auto skip = [&](const std::vector<Triangle>::const_iterator& it) {
     const std::int64_t* f = tri + 3 * (it - surfaceTris.begin());
     for (int k = 0; k < 3; ++k)
     {

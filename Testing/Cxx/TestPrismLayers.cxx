@@ -280,7 +280,7 @@ void ExpectValidStack(const ar::PrismStack& s, const std::string& label)
   EXPECT_NEAR(cells, enclosed, 1e-9 * enclosed) << label << ": the cells fill the outer surface";
 }
 
-std::set<Key> TetBoundary(const ar::TetMesh& m)
+Hybrid FromTets(const ar::TetMesh& m)
 {
   Hybrid h;
   h.Points = m.Points;
@@ -290,7 +290,12 @@ std::set<Key> TetBoundary(const ar::TetMesh& m)
     std::copy(&m.Tetrahedra[4 * c], &m.Tetrahedra[4 * c] + 4, cell.V.begin());
     h.Cells.push_back(cell);
   }
-  return BoundaryFaces(Faces(h));
+  return h;
+}
+
+std::set<Key> TetBoundary(const ar::TetMesh& m)
+{
+  return BoundaryFaces(Faces(FromTets(m)));
 }
 
 double TetVolume(const ar::TetMesh& m)
@@ -916,15 +921,7 @@ TEST(PrismLayers, FloatingLayersAreReleasedAsConformingTetrahedra)
       << "cell " << c;
   }
   // With the kept tetrahedra: a conforming tetrahedral mesh of the cube.
-  Hybrid tetsOnly;
-  tetsOnly.Points = all.Points;
-  for (std::size_t c = 0; c < all.NumberOfTetrahedra(); ++c)
-  {
-    Cell cell{ Tetra, {}, -1, 0, -1 };
-    std::copy(&all.Tetrahedra[4 * c], &all.Tetrahedra[4 * c] + 4, cell.V.begin());
-    tetsOnly.Cells.push_back(cell);
-  }
-  ExpectValidCells(tetsOnly, "released stack");
+  ExpectValidCells(FromTets(all), "released stack");
   EXPECT_EQ(TetBoundary(all), TetBoundary(cube));
   EXPECT_NEAR(TetVolume(all), 1.0, 1e-12);
 

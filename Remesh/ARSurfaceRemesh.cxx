@@ -2,9 +2,6 @@
 #include "ARSurfaceRemesh.h"
 #include "ARCGALTypes.h"
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
@@ -105,10 +102,9 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
 bool SurfacesIntersect(const std::vector<double>& pointsA, const std::vector<std::int64_t>& trianglesA,
   const std::vector<double>& pointsB, const std::vector<std::int64_t>& trianglesB)
 {
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using Triangle = K::Triangle_3;
-  using Iterator = std::vector<Triangle>::const_iterator;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, Iterator>>>;
+  using K = cgal::Kernel;
+  using Triangle = cgal::Triangle;
+  using Tree = cgal::TriangleTree;
   auto triangles = [](const std::vector<double>& p, const std::vector<std::int64_t>& t) {
     std::vector<Triangle> out;
     out.reserve(t.size() / 3);

@@ -18,6 +18,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSMPTools.h"
 #include "vtkStaticCleanPolyData.h"
 #include "vtkTriangleFilter.h"
 #include "vtkUnsignedCharArray.h"
@@ -25,6 +26,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <map>
 #include <numeric>
 
@@ -150,35 +152,45 @@ vtkSmartPointer<vtkPolyData> TetrahedralBoundary(vtkDataSet* domain)
       return nullptr;
     }
   }
+  // (on threads: each cell, face and point writes its own entries; the
+  // faces of a bucket are sorted whole, so the result is the same on any
+  // number of threads)
   std::vector<vtkIdType> tets(4 * static_cast<std::size_t>(nCells));
+  std::atomic<bool> bad(false);
   {
     vtkCellArray* cells = grid->GetCells();
-    vtkNew<vtkIdList> scratch;
-    for (vtkIdType c = 0; c < nCells; ++c)
-    {
-      vtkIdType npts;
-      const vtkIdType* pts;
-      cells->GetCellAtId(c, npts, pts, scratch);
-      if (npts != 4)
+    vtkSMPTools::For(0, nCells, [&](vtkIdType first, vtkIdType last) {
+      vtkNew<vtkIdList> scratch;
+      for (vtkIdType c = first; c < last && !bad; ++c)
       {
-        return nullptr;
-      }
-      for (int k = 0; k < 4; ++k)
-      {
-        if (pts[k] < 0 || pts[k] >= nPoints)
+        vtkIdType npts;
+        const vtkIdType* pts;
+        cells->GetCellAtId(c, npts, pts, scratch);
+        if (npts != 4)
         {
-          return nullptr;
+          bad = true;
+          return;
         }
-        for (int m = 0; m < k; ++m)
+        for (int k = 0; k < 4; ++k)
         {
-          if (pts[m] == pts[k])
+          bool repeated = pts[k] < 0 || pts[k] >= nPoints;
+          for (int m = 0; m < k; ++m)
           {
-            return nullptr;
+            repeated = repeated || pts[m] == pts[k];
           }
+          if (repeated)
+          {
+            bad = true;
+            return;
+          }
+          tets[4 * c + k] = pts[k];
         }
-        tets[4 * c + k] = pts[k];
       }
-    }
+    });
+  }
+  if (bad)
+  {
+    return nullptr;
   }
   static const int faceNodes[4][3] = { { 0, 1, 3 }, { 1, 2, 3 }, { 2, 0, 3 }, { 0, 2, 1 } };
   // Each face keyed by its sorted nodes, bucketed by the smallest (a
@@ -194,55 +206,93 @@ vtkSmartPointer<vtkPolyData> TetrahedralBoundary(vtkDataSet* domain)
     std::sort(n.begin(), n.end());
     return n;
   };
-  std::vector<vtkIdType> offset(static_cast<std::size_t>(nPoints) + 1, 0);
-  for (vtkIdType c = 0; c < nCells; ++c)
-  {
-    for (int f = 0; f < 4; ++f)
+  std::vector<std::atomic<vtkIdType>> count(static_cast<std::size_t>(nPoints) + 1);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(count.size()), [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType v = first; v < last; ++v)
     {
-      ++offset[sorted(c, f)[0] + 1];
+      count[v].store(0, std::memory_order_relaxed);
     }
-  }
-  std::partial_sum(offset.begin(), offset.end(), offset.begin());
-  std::vector<Face> faces(4 * static_cast<std::size_t>(nCells));
+  });
+  vtkSMPTools::For(0, nCells, [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType c = first; c < last; ++c)
+    {
+      for (int f = 0; f < 4; ++f)
+      {
+        count[sorted(c, f)[0] + 1].fetch_add(1, std::memory_order_relaxed);
+      }
+    }
+  });
+  std::vector<vtkIdType> offset(static_cast<std::size_t>(nPoints) + 1, 0);
+  for (vtkIdType v = 1; v <= nPoints; ++v)
   {
-    std::vector<vtkIdType> fill(offset.begin(), offset.end() - 1);
-    for (vtkIdType c = 0; c < nCells; ++c)
+    offset[v] = offset[v - 1] + count[v].load(std::memory_order_relaxed);
+  }
+  std::vector<Face> faces(4 * static_cast<std::size_t>(nCells));
+  vtkSMPTools::For(0, nPoints, [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType v = first; v < last; ++v)
+    {
+      count[v].store(offset[v], std::memory_order_relaxed); // the next free slot of bucket v
+    }
+  });
+  vtkSMPTools::For(0, nCells, [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType c = first; c < last; ++c)
     {
       for (int f = 0; f < 4; ++f)
       {
         const std::array<vtkIdType, 3> n = sorted(c, f);
-        faces[fill[n[0]]++] = Face{ n[1], n[2], 4 * c + f };
+        faces[count[n[0]].fetch_add(1, std::memory_order_relaxed)] = Face{ n[1], n[2], 4 * c + f };
       }
     }
+  });
+  // The faces that come once, bucket by bucket in blocks of points, the
+  // blocks' faces joined in their order.
+  const vtkIdType block = 65536;
+  const vtkIdType nBlocks = (nPoints + block - 1) / block;
+  std::vector<std::vector<std::array<vtkIdType, 3>>> blockTri(static_cast<std::size_t>(nBlocks));
+  std::vector<char> used(static_cast<std::size_t>(nPoints), 0);
+  vtkSMPTools::For(0, nBlocks, 1, [&](vtkIdType firstBlock, vtkIdType lastBlock) {
+    for (vtkIdType b = firstBlock; b < lastBlock && !bad; ++b)
+    {
+      for (vtkIdType v = b * block; v < std::min(nPoints, (b + 1) * block); ++v)
+      {
+        const auto first = faces.begin() + offset[v], last = faces.begin() + offset[v + 1];
+        std::sort(first, last);
+        for (auto i = first; i != last;)
+        {
+          auto j = i + 1;
+          while (j != last && j->B == i->B && j->C == i->C)
+          {
+            ++j;
+          }
+          if (j - i > 2)
+          {
+            bad = true;
+            return;
+          }
+          if (j - i == 1)
+          {
+            const vtkIdType c = i->TetFace / 4;
+            const int f = static_cast<int>(i->TetFace % 4);
+            blockTri[b].push_back({ tets[4 * c + faceNodes[f][0]], tets[4 * c + faceNodes[f][1]],
+              tets[4 * c + faceNodes[f][2]] });
+          }
+          i = j;
+        }
+      }
+    }
+  });
+  if (bad)
+  {
+    return nullptr;
   }
   std::vector<std::array<vtkIdType, 3>> tri;
-  std::vector<char> used(static_cast<std::size_t>(nPoints), 0);
-  for (vtkIdType v = 0; v < nPoints; ++v)
+  for (const auto& b : blockTri)
   {
-    const auto first = faces.begin() + offset[v], last = faces.begin() + offset[v + 1];
-    std::sort(first, last);
-    for (auto i = first; i != last;)
-    {
-      auto j = i + 1;
-      while (j != last && j->B == i->B && j->C == i->C)
-      {
-        ++j;
-      }
-      if (j - i > 2)
-      {
-        return nullptr;
-      }
-      if (j - i == 1)
-      {
-        const vtkIdType c = i->TetFace / 4;
-        const int f = static_cast<int>(i->TetFace % 4);
-        const std::array<vtkIdType, 3> t = { tets[4 * c + faceNodes[f][0]], tets[4 * c + faceNodes[f][1]],
-          tets[4 * c + faceNodes[f][2]] };
-        tri.push_back(t);
-        used[t[0]] = used[t[1]] = used[t[2]] = 1;
-      }
-      i = j;
-    }
+    tri.insert(tri.end(), b.begin(), b.end());
+  }
+  for (const std::array<vtkIdType, 3>& t : tri)
+  {
+    used[t[0]] = used[t[1]] = used[t[2]] = 1;
   }
   // The used points, in the input's order and precision.
   std::vector<vtkIdType> newId(static_cast<std::size_t>(nPoints), -1);

@@ -659,7 +659,9 @@ vtkEmbeddedRemeshSoup vtkEmbeddedRemeshRemeshSurface(vtkAlgorithm* self, const v
 {
   vtkEmbeddedRemeshSoup r;
   std::string error;
-  if (!ar::RemeshSurfaceIsotropic(s.Points, s.Triangles, edge, r.Points, r.Triangles, error))
+  // (a large S in two pieces, side by side on the filter's threads)
+  if (!ar::RemeshSurfaceIsotropic(
+        s.Points, s.Triangles, edge, r.Points, r.Triangles, error, vtkSMPTools::GetEstimatedNumberOfThreads()))
   {
     vtkWarningWithObjectMacro(self, << "The feature surface is used as it is (not remeshed): " << error);
     r = s;

@@ -188,6 +188,136 @@ double MinAngle(const Geometry& g, std::int64_t a, std::int64_t b, std::int64_t 
   return smallest;
 }
 
+/**
+ * The strip's thin triangles mended by edge collapses: a triangle under
+ * `minAngle` degrees with one of the strip's own points (id >= firstNew) has
+ * that point merged into a neighbour of that triangle, where the merge keeps
+ * the strip a manifold (the two points' common neighbours are the triangles'
+ * across their edge), turns no triangle over and raises the smallest angle
+ * about them. A ring point laid next to a corner of S's jagged border, a
+ * fifth of an edge from it, left a 3.6 degree triangle after the smoothing
+ * on the 5e6 cube. Points no triangle uses any more are left unused.
+ */
+void CollapseThinTriangles(const Geometry& g, std::int64_t firstNew, double minAngle, std::vector<std::int64_t>& strip)
+{
+  for (int round = 0; round < 100; ++round)
+  {
+    bool changed = false;
+    std::unordered_map<std::int64_t, std::vector<std::size_t>> star; // point -> its triangles
+    for (std::size_t t = 0; 3 * t < strip.size(); ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        star[strip[3 * t + k]].push_back(t);
+      }
+    }
+    auto normal = [&](const std::int64_t* v) {
+      return CGAL::cross_product(g.At(v[1]) - g.At(v[0]), g.At(v[2]) - g.At(v[0]));
+    };
+    auto neighbours = [&](std::int64_t v) {
+      std::vector<std::int64_t> n;
+      for (const std::size_t t : star[v])
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          if (strip[3 * t + k] != v)
+          {
+            n.push_back(strip[3 * t + k]);
+          }
+        }
+      }
+      std::sort(n.begin(), n.end());
+      n.erase(std::unique(n.begin(), n.end()), n.end());
+      return n;
+    };
+    for (std::size_t t = 0; 3 * t < strip.size() && !changed; ++t)
+    {
+      const std::int64_t* f = &strip[3 * t];
+      if (f[0] < 0 || MinAngle(g, f[0], f[1], f[2]) >= minAngle)
+      {
+        continue;
+      }
+      // The best merge of one of its own points v into another corner u.
+      double best = MinAngle(g, f[0], f[1], f[2]);
+      std::int64_t bestV = -1, bestU = -1;
+      for (int a = 0; a < 3; ++a)
+      {
+        const std::int64_t v = f[a];
+        if (v < firstNew)
+        {
+          continue;
+        }
+        for (int b = 1; b < 3; ++b)
+        {
+          const std::int64_t u = f[(a + b) % 3];
+          // Manifold: the common neighbours of v and u are the third
+          // corners of the triangles on their edge.
+          std::vector<std::int64_t> common, third;
+          const std::vector<std::int64_t> nv = neighbours(v), nu = neighbours(u);
+          std::set_intersection(nv.begin(), nv.end(), nu.begin(), nu.end(), std::back_inserter(common));
+          for (const std::size_t s : star[v])
+          {
+            const std::int64_t* e = &strip[3 * s];
+            if (e[0] == u || e[1] == u || e[2] == u)
+            {
+              third.push_back(e[0] != u && e[0] != v ? e[0] : e[1] != u && e[1] != v ? e[1] : e[2]);
+            }
+          }
+          std::sort(third.begin(), third.end());
+          if (common != third)
+          {
+            continue;
+          }
+          double smallest = 180.0;
+          bool flips = false;
+          for (const std::size_t s : star[v])
+          {
+            std::int64_t e[3] = { strip[3 * s], strip[3 * s + 1], strip[3 * s + 2] };
+            if (e[0] == u || e[1] == u || e[2] == u)
+            {
+              continue; // goes
+            }
+            const K::Vector_3 before = normal(e);
+            std::replace(e, e + 3, v, u);
+            const K::Vector_3 after = normal(e);
+            flips = flips || before * after <= 0.0;
+            smallest = std::min(smallest, MinAngle(g, e[0], e[1], e[2]));
+          }
+          if (!flips && smallest > best)
+          {
+            best = smallest;
+            bestV = v;
+            bestU = u;
+          }
+        }
+      }
+      if (bestV < 0)
+      {
+        continue;
+      }
+      std::vector<std::int64_t> kept;
+      for (std::size_t s = 0; 3 * s < strip.size(); ++s)
+      {
+        std::int64_t e[3] = { strip[3 * s], strip[3 * s + 1], strip[3 * s + 2] };
+        const bool hasV = e[0] == bestV || e[1] == bestV || e[2] == bestV;
+        const bool hasU = e[0] == bestU || e[1] == bestU || e[2] == bestU;
+        if (hasV && hasU)
+        {
+          continue;
+        }
+        std::replace(e, e + 3, bestV, bestU);
+        kept.insert(kept.end(), e, e + 3);
+      }
+      strip = std::move(kept);
+      changed = true;
+    }
+    if (!changed)
+    {
+      return;
+    }
+  }
+}
+
 /// The band between S's border loop `b` and the boundary loop `l` (the
 /// same way round), from b[0] and l[j0]: the monotone stitching of the two
 /// loops with the least sum of new edges' lengths (dynamic programming over
@@ -635,12 +765,34 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
       }
     }
   }
-  std::vector<double> added(all.begin() + 3 * firstNew, all.end());
+  CollapseThinTriangles(h, firstNew, minAngle, strip);
+  // The strip's own points that its triangles still use, renumbered.
+  std::vector<std::int64_t> renumber(all.size() / 3 - static_cast<std::size_t>(firstNew), -1);
+  std::vector<double> added;
+  for (std::int64_t& v : strip)
+  {
+    if (v >= firstNew)
+    {
+      std::int64_t& r = renumber[static_cast<std::size_t>(v - firstNew)];
+      if (r < 0)
+      {
+        r = firstNew + static_cast<std::int64_t>(added.size() / 3);
+        added.insert(added.end(), &all[3 * v], &all[3 * v] + 3);
+      }
+      v = r;
+    }
+  }
+  const std::vector<double> used = [&] {
+    std::vector<double> u(all.begin(), all.begin() + 3 * firstNew);
+    u.insert(u.end(), added.begin(), added.end());
+    return u;
+  }();
+  const Geometry mended{ used };
   // ---- Its quality, and nothing crossed.
   double worst = 180.0;
   for (std::size_t t = 0; 3 * t < strip.size(); ++t)
   {
-    worst = std::min(worst, MinAngle(h, strip[3 * t], strip[3 * t + 1], strip[3 * t + 2]));
+    worst = std::min(worst, MinAngle(mended, strip[3 * t], strip[3 * t + 1], strip[3 * t + 2]));
   }
   if (worst < minAngle)
   {
@@ -650,7 +802,7 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
   }
   std::vector<std::int64_t> others = boundary;
   others.insert(others.end(), surface.begin(), surface.end());
-  if (StripCrosses(h, strip, others))
+  if (StripCrosses(mended, strip, others))
   {
     why = "the strip would cross the boundary or S";
     strip.clear();

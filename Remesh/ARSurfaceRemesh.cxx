@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARSurfaceRemesh.h"
 #include "ARCGALTypes.h"
+#include "ARParallelFor.h"
+
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
 
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -16,11 +21,222 @@ namespace
 using cgal::Kernel;
 using cgal::Mesh;
 using cgal::Point;
+using cgal::Triangle;
+using cgal::TriangleTree;
+}
+
+namespace
+{
+/// A surface remeshed in pieces when it would have at least this many
+/// triangles at the target length (its area over an equilateral triangle's).
+constexpr double PieceTriangles = 60000.0;
+
+/**
+ * CGAL's isotropic remeshing of `mesh` (8 iterations, border edges kept),
+ * projecting on `tree` (the input's triangles, built) as CGAL's own
+ * projection does (the closest point of the input), but each query started
+ * from a point known to lie on it: where the vertex was projected last, or
+ * a neighbour's. CGAL's default starts every query with a kd-tree search for
+ * the nearest of the tree's reference points.
+ */
+void RemeshMesh(Mesh& mesh, double edgeLength, const TriangleTree& tree)
+{
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  auto onSurface = mesh.add_property_map<Mesh::Vertex_index, Point>("v:ar_on_surface", Point(0, 0, 0)).first;
+  auto known = mesh.add_property_map<Mesh::Vertex_index, bool>("v:ar_known", false).first;
+  for (const Mesh::Vertex_index v : mesh.vertices())
+  {
+    onSurface[v] = mesh.point(v); // (the input's own points lie on it)
+    known[v] = true;
+  }
+  auto project = [&](Mesh::Vertex_index v) {
+    const Point& q = mesh.point(v);
+    const Point* hint = known[v] ? &onSurface[v] : nullptr;
+    if (!hint)
+    {
+      for (Mesh::Halfedge_index h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+      {
+        const Mesh::Vertex_index u = mesh.source(h);
+        if (known[u])
+        {
+          hint = &onSurface[u];
+          break;
+        }
+      }
+    }
+    const Point p = hint ? tree.closest_point(q, *hint) : tree.closest_point(q);
+    onSurface[v] = p;
+    known[v] = true;
+    return p;
+  };
+  PMP::isotropic_remeshing(CGAL::faces(mesh), edgeLength, mesh,
+    CGAL::parameters::number_of_iterations(8).protect_constraints(true).projection_functor(project));
+  mesh.remove_property_map(onSurface);
+  mesh.remove_property_map(known);
+}
+
+/// `mesh`'s points and triangles appended to `points`, `triangles`; a vertex
+/// with a `shared` id (>= 0) that has come before is not repeated.
+void Append(const Mesh& mesh, const Mesh::Property_map<Mesh::Vertex_index, std::int64_t>* shared,
+  std::vector<std::int64_t>& firstOfShared, std::vector<double>& points, std::vector<std::int64_t>& triangles)
+{
+  std::vector<std::int64_t> index(mesh.number_of_vertices() + mesh.number_of_removed_vertices(), -1);
+  for (const Mesh::Vertex_index v : mesh.vertices())
+  {
+    const std::int64_t g = shared ? (*shared)[v] : -1;
+    if (g >= 0 && firstOfShared[static_cast<std::size_t>(g)] >= 0)
+    {
+      index[static_cast<std::size_t>(v)] = firstOfShared[static_cast<std::size_t>(g)];
+      continue;
+    }
+    index[static_cast<std::size_t>(v)] = static_cast<std::int64_t>(points.size() / 3);
+    if (g >= 0)
+    {
+      firstOfShared[static_cast<std::size_t>(g)] = index[static_cast<std::size_t>(v)];
+    }
+    const Point& p = mesh.point(v);
+    points.insert(points.end(), { p.x(), p.y(), p.z() });
+  }
+  for (const Mesh::Face_index f : mesh.faces())
+  {
+    for (const Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+    {
+      triangles.push_back(index[static_cast<std::size_t>(v)]);
+    }
+  }
+}
+
+/**
+ * `mesh` cut in two pieces of about equal area, across the axis of its
+ * largest extent (by the faces' centroids), the cut's edges split to the
+ * target length as the border's are; each piece a mesh of its own whose
+ * vertices carry their id in `mesh` ("v:ar_shared"). False where a piece
+ * would not be a manifold (it touches the other at a single vertex, say):
+ * the surface is then remeshed whole.
+ */
+bool CutInTwo(Mesh& mesh, double edgeLength, std::array<Mesh, 2>& pieces)
+{
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  const CGAL::Bbox_3 box = PMP::bbox(mesh);
+  int axis = 0;
+  for (int d = 1; d < 3; ++d)
+  {
+    if (box.max(d) - box.min(d) > box.max(axis) - box.min(axis))
+    {
+      axis = d;
+    }
+  }
+  std::vector<std::pair<double, Mesh::Face_index>> order;
+  std::vector<double> area(mesh.number_of_faces() + mesh.number_of_removed_faces(), 0.0);
+  for (const Mesh::Face_index f : mesh.faces())
+  {
+    const Mesh::Halfedge_index h = mesh.halfedge(f);
+    const Point &a = mesh.point(mesh.source(h)), &b = mesh.point(mesh.target(h)),
+                &c = mesh.point(mesh.target(mesh.next(h)));
+    order.emplace_back((a[axis] + b[axis] + c[axis]) / 3.0, f);
+    area[static_cast<std::size_t>(f)] = std::sqrt(CGAL::to_double(CGAL::squared_area(a, b, c)));
+  }
+  std::sort(order.begin(), order.end());
+  double total = 0.0;
+  for (const auto& o : order)
+  {
+    total += area[static_cast<std::size_t>(o.second)];
+  }
+  auto piece = mesh.add_property_map<Mesh::Face_index, int>("f:ar_piece", -1).first;
+  double sum = 0.0;
+  for (const auto& o : order)
+  {
+    piece[o.second] = sum < 0.5 * total ? 0 : 1;
+    sum += area[static_cast<std::size_t>(o.second)];
+  }
+  // The cut: the edges between the pieces, split as the border (their parts
+  // stay marked), then the faces the splits made given their side's piece.
+  auto cut = mesh.add_property_map<Mesh::Edge_index, bool>("e:ar_cut", false).first;
+  std::vector<Mesh::Edge_index> cutEdges;
+  for (const Mesh::Edge_index e : mesh.edges())
+  {
+    const Mesh::Halfedge_index h = mesh.halfedge(e);
+    if (!mesh.is_border(e) && piece[mesh.face(h)] != piece[mesh.face(mesh.opposite(h))])
+    {
+      cut[e] = true;
+      cutEdges.push_back(e);
+    }
+  }
+  bool ok = !cutEdges.empty();
+  if (ok)
+  {
+    PMP::split_long_edges(cutEdges, edgeLength, mesh, CGAL::parameters::edge_is_constrained_map(cut));
+    std::vector<Mesh::Face_index> front;
+    for (const Mesh::Face_index f : mesh.faces())
+    {
+      if (piece[f] >= 0)
+      {
+        front.push_back(f);
+      }
+    }
+    while (!front.empty())
+    {
+      const Mesh::Face_index f = front.back();
+      front.pop_back();
+      for (const Mesh::Halfedge_index h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh))
+      {
+        const Mesh::Face_index g = mesh.face(mesh.opposite(h));
+        if (g != Mesh::null_face() && !cut[mesh.edge(h)] && piece[g] < 0)
+        {
+          piece[g] = piece[f];
+          front.push_back(g);
+        }
+      }
+    }
+    std::vector<cgal::Point> pts;
+    for (int k = 0; k < 2 && ok; ++k)
+    {
+      std::vector<std::int64_t> local(mesh.number_of_vertices() + mesh.number_of_removed_vertices(), -1);
+      std::vector<std::int64_t> global;
+      pts.clear();
+      cgal::Soup faces;
+      for (const Mesh::Face_index f : mesh.faces())
+      {
+        if (piece[f] != k)
+        {
+          continue;
+        }
+        std::array<std::size_t, 3> t{};
+        int j = 0;
+        for (const Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+        {
+          std::int64_t& l = local[static_cast<std::size_t>(v)];
+          if (l < 0)
+          {
+            l = static_cast<std::int64_t>(pts.size());
+            pts.push_back(mesh.point(v));
+            global.push_back(static_cast<std::int64_t>(v));
+          }
+          t[j++] = static_cast<std::size_t>(l);
+        }
+        faces.push_back(t);
+      }
+      ok = !faces.empty() && cgal::SoupToMesh(pts, faces, pieces[k]);
+      if (ok)
+      {
+        // (polygon_soup_to_polygon_mesh adds the points in their order)
+        const auto shared = pieces[k].add_property_map<Mesh::Vertex_index, std::int64_t>("v:ar_shared", -1).first;
+        for (const Mesh::Vertex_index v : pieces[k].vertices())
+        {
+          shared[v] = global[static_cast<std::size_t>(v)];
+        }
+      }
+    }
+  }
+  mesh.remove_property_map(piece);
+  mesh.remove_property_map(cut);
+  return ok;
+}
 }
 
 bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
   double edgeLength, std::vector<double>& outPoints, std::vector<std::int64_t>& outTriangles,
-  std::string& error)
+  std::string& error, int threads, int* pieces)
 {
   namespace PMP = CGAL::Polygon_mesh_processing;
   outPoints.clear();
@@ -79,26 +295,52 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
     }
   }
   PMP::split_long_edges(border, edgeLength, mesh);
-  PMP::isotropic_remeshing(CGAL::faces(mesh), edgeLength, mesh,
-    CGAL::parameters::number_of_iterations(8).protect_constraints(true));
-  mesh.collect_garbage();
-  // (after the garbage is collected the vertex indices run 0 .. n-1)
-  std::vector<std::int64_t> index(mesh.number_of_vertices(), -1);
-  for (Mesh::Vertex_index v : mesh.vertices())
+  // What the vertices are projected on: the input's triangles.
+  std::vector<Triangle> input;
+  input.reserve(mesh.number_of_faces());
+  for (const Mesh::Face_index f : mesh.faces())
   {
-    index[static_cast<std::size_t>(v)] = static_cast<std::int64_t>(outPoints.size() / 3);
-    const Point& p = mesh.point(v);
-    outPoints.insert(outPoints.end(), { p.x(), p.y(), p.z() });
+    const Mesh::Halfedge_index h = mesh.halfedge(f);
+    input.emplace_back(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h))));
   }
-  for (Mesh::Face_index f : mesh.faces())
+  TriangleTree tree(input.begin(), input.end());
+  tree.build();
+  tree.accelerate_distance_queries(); // (built here, not by the first query of a thread)
+  // A large surface is cut in two pieces, the cut kept as the border is, and
+  // the pieces remeshed side by side (by geometry alone, so the same output
+  // on any number of threads: with one, one after the other).
+  const double area = PMP::area(mesh);
+  std::array<Mesh, 2> halves;
+  const bool cut = area / (0.25 * std::sqrt(3.0) * edgeLength * edgeLength) >= PieceTriangles &&
+    CutInTwo(mesh, edgeLength, halves);
+  if (pieces)
   {
-    for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+    *pieces = cut ? 2 : 1;
+  }
+  if (cut)
+  {
+    ParallelFor(
+      2, [&](std::size_t first, std::size_t last) {
+        for (std::size_t k = first; k < last; ++k)
+        {
+          RemeshMesh(halves[k], edgeLength, tree);
+        }
+      },
+      static_cast<std::size_t>(std::max(1, threads)), 1);
+    std::vector<std::int64_t> firstOfShared(mesh.number_of_vertices() + mesh.number_of_removed_vertices(), -1);
+    for (const Mesh& piece : halves)
     {
-      outTriangles.push_back(index[static_cast<std::size_t>(v)]);
+      const auto shared = piece.property_map<Mesh::Vertex_index, std::int64_t>("v:ar_shared").first;
+      Append(piece, &shared, firstOfShared, outPoints, outTriangles);
     }
+    return true;
   }
+  RemeshMesh(mesh, edgeLength, tree);
+  std::vector<std::int64_t> none;
+  Append(mesh, nullptr, none, outPoints, outTriangles);
   return true;
 }
+
 bool SurfacesIntersect(const std::vector<double>& pointsA, const std::vector<std::int64_t>& trianglesA,
   const std::vector<double>& pointsB, const std::vector<std::int64_t>& trianglesB)
 {

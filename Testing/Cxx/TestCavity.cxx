@@ -437,6 +437,86 @@ TEST(SurfaceRemesh, IsotropicAtTheTargetLengthKeepingTheOutline)
   EXPECT_NE(error.find("non-finite"), std::string::npos) << error;
 }
 
+TEST(SurfaceRemesh, LargeSurfaceInTwoPiecesJoinedWithoutACrack)
+{
+  // 1.04 of area at an edge of 0.006: about 67,000 triangles, so cut in two
+  // pieces (remeshed side by side) and joined at the cut. The input about
+  // five target edges fine, as a QuadricFit surface for EmbeddedRemesh's
+  // refined S.
+  const Surface coarse = Grid(33, 30, 0.0, 1.0, 0.0, 1.0, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.3 * u };
+  });
+  const double L = 0.006;
+  std::vector<double> pts, pts1;
+  std::vector<std::int64_t> tris, tris1;
+  std::string error;
+  int pieces = 0, pieces1 = 0;
+  ASSERT_TRUE(ar::RemeshSurfaceIsotropic(coarse.Points, coarse.Triangles, L, pts, tris, error, 2, &pieces)) << error;
+  ASSERT_TRUE(ar::RemeshSurfaceIsotropic(coarse.Points, coarse.Triangles, L, pts1, tris1, error, 1, &pieces1)) << error;
+  EXPECT_EQ(pieces, 2);
+  EXPECT_EQ(pieces1, 2) << "the pieces do not depend on the threads";
+  EXPECT_EQ(pts, pts1) << "the same points on one thread as on two";
+  EXPECT_EQ(tris, tris1) << "the same triangles on one thread as on two";
+  EXPECT_GT(tris.size() / 3, 60000u);
+  // One manifold sheet: every edge in one or two triangles, once each way;
+  // the edges in one lie on the outline (no crack along the cut).
+  std::map<std::pair<std::int64_t, std::int64_t>, int> directed;
+  for (std::size_t t = 0; t < tris.size() / 3; ++t)
+    for (int k = 0; k < 3; ++k)
+      ++directed[{ tris[3 * t + k], tris[3 * t + (k + 1) % 3] }];
+  auto onOutline = [&](std::int64_t i) {
+    const double* x = &pts[3 * i];
+    return x[0] < 1e-12 || x[0] > 1 - 1e-12 || x[1] < 1e-12 || x[1] > 1 - 1e-12;
+  };
+  std::size_t border = 0, twice = 0;
+  for (const auto& [e, n] : directed)
+  {
+    EXPECT_EQ(n, 1) << "edge " << e.first << "-" << e.second << " twice the same way";
+    if (!directed.count({ e.second, e.first }))
+    {
+      ++border;
+      EXPECT_TRUE(onOutline(e.first) && onOutline(e.second)) << "a border edge inside the square: a crack";
+    }
+    else
+    {
+      ++twice;
+    }
+  }
+  EXPECT_GT(border, 4.0 / L * 0.9);
+  EXPECT_LT(border, 4.0 / L * 2.5);
+  // The area kept, the size and the shape as without the cut (the cut's
+  // neighbourhood included).
+  double area = 0.0, sum = 0.0, worst = 180.0;
+  std::size_t edges = 0;
+  for (std::size_t t = 0; t < tris.size() / 3; ++t)
+  {
+    const double* p[3] = { &pts[3 * tris[3 * t]], &pts[3 * tris[3 * t + 1]], &pts[3 * tris[3 * t + 2]] };
+    double l[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const double* a = p[k];
+      const double* b = p[(k + 1) % 3];
+      l[k] = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+      sum += l[k];
+      ++edges;
+    }
+    const double s2 = 0.5 * (l[0] + l[1] + l[2]);
+    area += std::sqrt(std::max(0.0, s2 * (s2 - l[0]) * (s2 - l[1]) * (s2 - l[2])));
+    bool outline = false;
+    for (int k = 0; k < 3; ++k)
+      outline = outline || onOutline(tris[3 * t + k]);
+    for (int k = 0; k < 3 && !outline; ++k)
+    {
+      const double c = (l[(k + 1) % 3] * l[(k + 1) % 3] + l[(k + 2) % 3] * l[(k + 2) % 3] - l[k] * l[k]) /
+        (2 * l[(k + 1) % 3] * l[(k + 2) % 3]);
+      worst = std::min(worst, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
+    }
+  }
+  EXPECT_NEAR(area, std::hypot(1.0, 0.3), 1e-9) << "the plane's area is kept (outline fixed)";
+  EXPECT_NEAR(sum / edges, L, 0.1 * L) << "mean edge length";
+  EXPECT_GT(worst, 20.0) << "no sliver triangles away from the outline, the cut's neighbourhood included";
+}
+
 TEST(Cavity, TetGenFailureIsReportedNotThrown)
 {
   // Two copies of a patch 1e-11 apart: no crossing (CGAL finds none), but too

@@ -269,6 +269,62 @@ struct vtkARFieldTransfer::TetLocator::vtkInternals
       : -1;
   }
 
+  /// Of the cells that hold x on a face, an edge or a corner of c (b: its
+  /// barycentric coordinates in c), the one that comes first by its
+  /// corners' coordinates (sorted), and its coordinates in `w`: so that the
+  /// answer does not depend on the side the walk came from (a new cell's
+  /// centre within round-off of an old face, found from another start in
+  /// the distributed run's gathered cells, took the other side's value).
+  vtkIdType Canonical(vtkIdType c, const double x[3], const double b[4], double w[4]) const
+  {
+    // The cells with every corner of c that weighs (they hold x's support).
+    std::vector<vtkIdType> support;
+    const vtkIdType* v = this->Mesh.CellPoints(c);
+    for (int k = 0; k < 4; ++k)
+    {
+      if (b[k] > Tolerance)
+      {
+        support.push_back(v[k]);
+      }
+    }
+    auto key = [&](vtkIdType cell) {
+      const vtkIdType* q = this->Mesh.CellPoints(cell);
+      std::array<std::array<double, 3>, 4> corners;
+      for (int k = 0; k < 4; ++k)
+      {
+        std::copy(this->Mesh.X + 3 * q[k], this->Mesh.X + 3 * q[k] + 3, corners[k].begin());
+      }
+      std::sort(corners.begin(), corners.end());
+      return corners;
+    };
+    vtkIdType best = c;
+    auto bestKey = key(c);
+    std::copy(b, b + 4, w);
+    const vtkIdType* first = this->Links.data() + this->LinkOffsets[support[0]];
+    const vtkIdType* last = this->Links.data() + this->LinkOffsets[support[0] + 1];
+    for (const vtkIdType* a = first; a != last; ++a)
+    {
+      const vtkIdType* q = this->Mesh.CellPoints(*a);
+      if (*a == c || !std::all_of(support.begin(), support.end(), [&](vtkIdType p) { return std::find(q, q + 4, p) != q + 4; }))
+      {
+        continue;
+      }
+      double e[4];
+      if (!this->Barycentric(*a, x, e) || *std::min_element(e, e + 4) < -Tolerance)
+      {
+        continue;
+      }
+      const auto k = key(*a);
+      if (k < bestKey)
+      {
+        best = *a;
+        bestKey = k;
+        std::copy(e, e + 4, w);
+      }
+    }
+    return best;
+  }
+
   /// The walk from `start` (< 0: the nearest vertex's cell); -1 if it fails.
   vtkIdType Walk(const double x[3], vtkIdType start, double w[4]) const
   {
@@ -289,8 +345,12 @@ struct vtkARFieldTransfer::TetLocator::vtkInternals
       std::sort(order, order + 4, [&](int i, int j) { return b[i] < b[j] || (b[i] == b[j] && i < j); });
       if (b[order[0]] >= -Tolerance)
       {
-        std::copy(b, b + 4, w);
-        return c;
+        if (b[order[0]] > Tolerance)
+        {
+          std::copy(b, b + 4, w);
+          return c;
+        }
+        return this->Canonical(c, x, b, w);
       }
       vtkIdType next = -1;
       for (int k = 0; k < 4 && next < 0 && b[order[k]] < -Tolerance; ++k)

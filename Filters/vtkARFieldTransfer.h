@@ -80,11 +80,15 @@ public:
 
   /**
    * Point location in a set of tetrahedra, reproducible: the answer for a
-   * point depends only on the point and on where its search starts, never on
-   * the threads. A search walks from a start tetrahedron towards the point,
-   * each step across the face whose barycentric coordinate is the most
-   * negative (the neighbour found from the corners' sorted cell links),
-   * until every coordinate is >= -1e-10. The queries are taken in Morton
+   * point depends only on the point (and, for a walk that fails, on where
+   * its search starts), never on the threads. A search walks from a start
+   * tetrahedron towards the point, each step across the face whose
+   * barycentric coordinate is the most negative (the neighbour found from
+   * the corners' sorted cell links), until every coordinate is >= -1e-10;
+   * where one is within 1e-10 of 0 (the point on a face, an edge or a
+   * corner) the answer is, of the tetrahedra that hold it there, the one
+   * that comes first by its sorted corners' coordinates, whichever side the
+   * walk came from. The queries are taken in Morton
    * order of their points (for the memory, not the result) in fixed blocks
    * of 256: a query's start is its own (given), else the previous query's
    * cell in its block, else (first of a block, or a walk that failed) the

@@ -4,6 +4,7 @@
 #include "ARParallelFor.h"
 
 #include <CGAL/Polygon_mesh_processing/bbox.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 
 #include <CGAL/Polygon_mesh_processing/border.h>
@@ -13,6 +14,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <memory>
 
 namespace ar
 {
@@ -32,39 +35,108 @@ namespace
 constexpr double PieceTriangles = 60000.0;
 
 /**
- * CGAL's isotropic remeshing of `mesh` (8 iterations, border edges kept),
- * projecting on `tree` (the input's triangles, built) as CGAL's own
- * projection does (the closest point of the input), but each query started
- * from a point known to lie on it: where the vertex was projected last, or
- * a neighbour's. CGAL's default starts every query with a kd-tree search for
- * the nearest of the tree's reference points.
+ * What the remeshed points are projected on: the input's triangles, one
+ * AABB tree per connected piece of the surface, as CGAL's own projection
+ * (a point goes to its own piece, not to another lying closer, such as a
+ * second sheet a hair's breadth away).
  */
-void RemeshMesh(Mesh& mesh, double edgeLength, const TriangleTree& tree)
+struct Projection
+{
+  std::vector<std::vector<Triangle>> Triangles;
+  std::vector<std::unique_ptr<TriangleTree>> Trees;
+
+  /// The pieces of `mesh` and their trees (built, so that threads only query
+  /// them); "v:ar_component" gets each vertex's piece.
+  explicit Projection(Mesh& mesh)
+  {
+    namespace PMP = CGAL::Polygon_mesh_processing;
+    auto faceComponent = mesh.add_property_map<Mesh::Face_index, std::size_t>("f:ar_component", 0).first;
+    const std::size_t n = PMP::connected_components(mesh, faceComponent);
+    Triangles.resize(n);
+    auto component = mesh.add_property_map<Mesh::Vertex_index, int>("v:ar_component", -1).first;
+    for (const Mesh::Face_index f : mesh.faces())
+    {
+      const Mesh::Halfedge_index h = mesh.halfedge(f);
+      Triangles[faceComponent[f]].emplace_back(
+        mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h))));
+      for (const Mesh::Vertex_index v : CGAL::vertices_around_face(h, mesh))
+      {
+        component[v] = static_cast<int>(faceComponent[f]);
+      }
+    }
+    mesh.remove_property_map(faceComponent);
+    for (const std::vector<Triangle>& t : Triangles)
+    {
+      Trees.push_back(std::make_unique<TriangleTree>(t.begin(), t.end()));
+      Trees.back()->build();
+      Trees.back()->accelerate_distance_queries();
+    }
+  }
+};
+
+/**
+ * CGAL's isotropic remeshing of `mesh` (8 iterations, border edges kept),
+ * each point projected as CGAL's own projection does (the closest point of
+ * its piece of the input), but each query started from a point known to lie
+ * on it: where the point was projected last, or a neighbour's. CGAL's
+ * default starts every query with a kd-tree search for the nearest of the
+ * tree's reference points. The vertices' pieces are "v:ar_component".
+ */
+void RemeshMesh(Mesh& mesh, double edgeLength, const Projection& on)
 {
   namespace PMP = CGAL::Polygon_mesh_processing;
   auto onSurface = mesh.add_property_map<Mesh::Vertex_index, Point>("v:ar_on_surface", Point(0, 0, 0)).first;
   auto known = mesh.add_property_map<Mesh::Vertex_index, bool>("v:ar_known", false).first;
+  auto component = mesh.property_map<Mesh::Vertex_index, int>("v:ar_component").first;
   for (const Mesh::Vertex_index v : mesh.vertices())
   {
     onSurface[v] = mesh.point(v); // (the input's own points lie on it)
-    known[v] = true;
+    known[v] = component[v] >= 0;
   }
+  std::vector<Mesh::Vertex_index> front;
   auto project = [&](Mesh::Vertex_index v) {
     const Point& q = mesh.point(v);
-    const Point* hint = known[v] ? &onSurface[v] : nullptr;
-    if (!hint)
+    Mesh::Vertex_index from = v;
+    if (!known[v])
     {
-      for (Mesh::Halfedge_index h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+      // The nearest known point (a new point's neighbours mostly are).
+      front.assign(1, v);
+      for (std::size_t i = 0; i < front.size() && i < 256 && !known[from]; ++i)
       {
-        const Mesh::Vertex_index u = mesh.source(h);
-        if (known[u])
+        for (const Mesh::Halfedge_index h : CGAL::halfedges_around_target(mesh.halfedge(front[i]), mesh))
         {
-          hint = &onSurface[u];
-          break;
+          const Mesh::Vertex_index u = mesh.source(h);
+          if (known[u])
+          {
+            from = u;
+            break;
+          }
+          front.push_back(u);
         }
       }
     }
-    const Point p = hint ? tree.closest_point(q, *hint) : tree.closest_point(q);
+    Point p = q;
+    if (known[from])
+    {
+      component[v] = component[from];
+      p = on.Trees[static_cast<std::size_t>(component[v])]->closest_point(q, onSurface[from]);
+    }
+    else
+    {
+      // (none near: the nearest piece)
+      double best = std::numeric_limits<double>::max();
+      for (std::size_t c = 0; c < on.Trees.size(); ++c)
+      {
+        const Point x = on.Trees[c]->closest_point(q);
+        const double d = CGAL::to_double(CGAL::squared_distance(q, x));
+        if (d < best)
+        {
+          best = d;
+          p = x;
+          component[v] = static_cast<int>(c);
+        }
+      }
+    }
     onSurface[v] = p;
     known[v] = true;
     return p;
@@ -117,6 +189,8 @@ void Append(const Mesh& mesh, const Mesh::Property_map<Mesh::Vertex_index, std::
 bool CutInTwo(Mesh& mesh, double edgeLength, std::array<Mesh, 2>& pieces)
 {
   namespace PMP = CGAL::Polygon_mesh_processing;
+  // (the cut's new points inherit the piece of the input they lie on)
+  auto wholeComponent = mesh.property_map<Mesh::Vertex_index, int>("v:ar_component").first;
   const CGAL::Bbox_3 box = PMP::bbox(mesh);
   int axis = 0;
   for (int d = 1; d < 3; ++d)
@@ -166,6 +240,16 @@ bool CutInTwo(Mesh& mesh, double edgeLength, std::array<Mesh, 2>& pieces)
   if (ok)
   {
     PMP::split_long_edges(cutEdges, edgeLength, mesh, CGAL::parameters::edge_is_constrained_map(cut));
+    for (const Mesh::Vertex_index v : mesh.vertices())
+    {
+      for (const Mesh::Halfedge_index h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+      {
+        if (wholeComponent[v] < 0)
+        {
+          wholeComponent[v] = wholeComponent[mesh.source(h)]; // (the split edge's ends are the input's)
+        }
+      }
+    }
     std::vector<Mesh::Face_index> front;
     for (const Mesh::Face_index f : mesh.faces())
     {
@@ -220,10 +304,12 @@ bool CutInTwo(Mesh& mesh, double edgeLength, std::array<Mesh, 2>& pieces)
       if (ok)
       {
         // (polygon_soup_to_polygon_mesh adds the points in their order)
-        const auto shared = pieces[k].add_property_map<Mesh::Vertex_index, std::int64_t>("v:ar_shared", -1).first;
+        auto shared = pieces[k].add_property_map<Mesh::Vertex_index, std::int64_t>("v:ar_shared", -1).first;
+        auto component = pieces[k].add_property_map<Mesh::Vertex_index, int>("v:ar_component", -1).first;
         for (const Mesh::Vertex_index v : pieces[k].vertices())
         {
           shared[v] = global[static_cast<std::size_t>(v)];
+          component[v] = wholeComponent[Mesh::Vertex_index(static_cast<Mesh::size_type>(shared[v]))];
         }
       }
     }
@@ -295,17 +381,7 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
     }
   }
   PMP::split_long_edges(border, edgeLength, mesh);
-  // What the vertices are projected on: the input's triangles.
-  std::vector<Triangle> input;
-  input.reserve(mesh.number_of_faces());
-  for (const Mesh::Face_index f : mesh.faces())
-  {
-    const Mesh::Halfedge_index h = mesh.halfedge(f);
-    input.emplace_back(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h))));
-  }
-  TriangleTree tree(input.begin(), input.end());
-  tree.build();
-  tree.accelerate_distance_queries(); // (built here, not by the first query of a thread)
+  const Projection projection(mesh); // the input's pieces ("v:ar_component")
   // A large surface is cut in two pieces, the cut kept as the border is, and
   // the pieces remeshed side by side (by geometry alone, so the same output
   // on any number of threads: with one, one after the other).
@@ -323,7 +399,7 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
       2, [&](std::size_t first, std::size_t last) {
         for (std::size_t k = first; k < last; ++k)
         {
-          RemeshMesh(halves[k], edgeLength, tree);
+          RemeshMesh(halves[k], edgeLength, projection);
         }
       },
       static_cast<std::size_t>(std::max(1, threads)), 1);
@@ -335,7 +411,7 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
     }
     return true;
   }
-  RemeshMesh(mesh, edgeLength, tree);
+  RemeshMesh(mesh, edgeLength, projection);
   std::vector<std::int64_t> none;
   Append(mesh, nullptr, none, outPoints, outTriangles);
   return true;

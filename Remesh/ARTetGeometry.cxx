@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARTetGeometry.h"
+#include "ARParallelFor.h"
 
 #include <Eigen/Dense>
 
@@ -147,19 +148,30 @@ double StarMinAngle(TetMesh& mesh, const std::vector<std::size_t>& star, std::in
   return m;
 }
 /// Flags the free points (ids >= firstFree) of tetrahedra under minAngle; false if there are none.
-bool MarkSliverPoints(const TetMesh& mesh, std::size_t firstFree, double minAngle, std::vector<char>& candidate)
+bool MarkSliverPoints(
+  const TetMesh& mesh, std::size_t firstFree, double minAngle, std::size_t threads, std::vector<char>& candidate)
 {
+  // The thin tetrahedra found on threads (each writes its own flag), their
+  // free points flagged after.
+  const std::size_t nT = mesh.NumberOfTetrahedra();
+  std::vector<char> thin(nT, 0);
+  ParallelFor(
+    nT,
+    [&](std::size_t first, std::size_t last) {
+      for (std::size_t t = first; t < last; ++t)
+      {
+        const std::int64_t* v = &mesh.Tetrahedra[4 * t];
+        thin[t] = std::any_of(v, v + 4, [&](std::int64_t p) { return static_cast<std::size_t>(p) >= firstFree; }) &&
+          MinDihedral(mesh, t) < minAngle;
+      }
+    },
+    threads, 20000);
   candidate.assign(mesh.NumberOfPoints(), 0);
   bool any = false;
-  for (std::size_t t = 0; t < mesh.NumberOfTetrahedra(); ++t)
+  for (std::size_t t = 0; t < nT; ++t)
   {
     const std::int64_t* v = &mesh.Tetrahedra[4 * t];
-    if (std::none_of(v, v + 4, [&](std::int64_t p) { return static_cast<std::size_t>(p) >= firstFree; }) ||
-      MinDihedral(mesh, t) >= minAngle)
-    {
-      continue;
-    }
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < 4 && thin[t]; ++k)
     {
       if (static_cast<std::size_t>(v[k]) >= firstFree)
       {
@@ -241,11 +253,11 @@ bool MoveToBestTry(TetMesh& mesh, const std::vector<std::size_t>& star, std::siz
 }
 }
 
-std::size_t SmoothFreePointsAtSlivers(TetMesh& mesh, std::size_t firstFree, double minAngle, int passes)
+std::size_t SmoothFreePointsAtSlivers(TetMesh& mesh, std::size_t firstFree, double minAngle, int passes, int threads)
 {
   const std::size_t nP = mesh.NumberOfPoints();
   std::vector<char> moved(nP, 0), candidate;
-  for (int pass = 0; pass < passes && MarkSliverPoints(mesh, firstFree, minAngle, candidate); ++pass)
+  for (int pass = 0; pass < passes && MarkSliverPoints(mesh, firstFree, minAngle, static_cast<std::size_t>(std::max(0, threads)), candidate); ++pass)
   {
     // The stars of the flagged points.
     std::vector<std::vector<std::size_t>> star(nP);

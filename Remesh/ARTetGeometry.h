@@ -43,7 +43,10 @@ double TotalSignedVolume(const TetMesh& mesh);
 /// are not below `minAngle` never move: a mesh without such tetrahedra is
 /// left bit for bit. Returns the number of points moved. (CGAL's sliver
 /// perturbation works on a Mesh_3 complex, not on a mesh given as cells.)
-std::size_t SmoothFreePointsAtSlivers(TetMesh& mesh, std::size_t firstFree, double minAngle, int passes = 4);
+/// The search for the thin tetrahedra runs on `threads` threads (0: the
+/// hardware's; the same result on any number).
+std::size_t SmoothFreePointsAtSlivers(
+  TetMesh& mesh, std::size_t firstFree, double minAngle, int passes = 4, int threads = 1);
 }
 
 #endif

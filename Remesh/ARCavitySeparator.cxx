@@ -188,16 +188,7 @@ double MinAngle(const Geometry& g, std::int64_t a, std::int64_t b, std::int64_t 
   return smallest;
 }
 
-/**
- * The strip's thin triangles mended by edge collapses: a triangle under
- * `minAngle` degrees with one of the strip's own points (id >= firstNew) has
- * that point merged into a neighbour of that triangle, where the merge keeps
- * the strip a manifold (the two points' common neighbours are the triangles'
- * across their edge), turns no triangle over and raises the smallest angle
- * about them. A ring point laid next to a corner of S's jagged border, a
- * fifth of an edge from it, left a 3.6 degree triangle after the smoothing
- * on the 5e6 cube. Points no triangle uses any more are left unused.
- */
+/// CollapseThinStripTriangles (ARCavitySeparator.h).
 void CollapseThinTriangles(const Geometry& g, std::int64_t firstNew, double minAngle, std::vector<std::int64_t>& strip)
 {
   for (int round = 0; round < 100; ++round)
@@ -810,5 +801,11 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
   }
   newPoints = std::move(added);
   return true;
+}
+
+void CollapseThinStripTriangles(
+  const std::vector<double>& points, std::int64_t firstNew, double minAngle, std::vector<std::int64_t>& strip)
+{
+  CollapseThinTriangles(Geometry{ points }, firstNew, minAngle, strip);
 }
 }

@@ -5,6 +5,7 @@
 // every refused input; the refill's complex split into pieces
 // (ARTetGenPieces.h) and meshed side by side.
 #include "ARCavity.h"
+#include "ARCavitySeparator.h"
 #include "ARMeshSize.h"
 #include "ARSurfaceRemesh.h"
 #include "ARTetGenPieces.h"
@@ -515,6 +516,51 @@ TEST(SurfaceRemesh, LargeSurfaceInTwoPiecesJoinedWithoutACrack)
   EXPECT_NEAR(area, std::hypot(1.0, 0.3), 1e-9) << "the plane's area is kept (outline fixed)";
   EXPECT_NEAR(sum / edges, L, 0.1 * L) << "mean edge length";
   EXPECT_GT(worst, 20.0) << "no sliver triangles away from the outline, the cut's neighbourhood included";
+}
+
+TEST(CavitySeparator, ThinStripTrianglesMendedByCollapsingTheStripsOwnPoint)
+{
+  // S's border A B C along x, the boundary's loop D E F two edges above, and
+  // one ring point N a twentieth of an edge from B: (A, B, N) and (B, C, N)
+  // have 2.8 and 2.9 degree angles. N (the strip's own, id 6) goes into B.
+  const std::vector<double> x = { 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 2, 0, 1, 2, 0, 2, 2, 0, 1.02, 0.05, 0 };
+  enum { A, B, C, D, E, F, N };
+  std::vector<std::int64_t> strip = { A, B, N, B, C, N, A, N, D, N, E, D, N, F, E, N, C, F };
+  auto smallest = [&](const std::vector<std::int64_t>& t) {
+    double worst = 180.0;
+    for (std::size_t k = 0; k < t.size(); k += 3)
+      for (int i = 0; i < 3; ++i)
+      {
+        const double* p = &x[3 * t[k + i]];
+        const double* q = &x[3 * t[k + (i + 1) % 3]];
+        const double* r = &x[3 * t[k + (i + 2) % 3]];
+        const double u[2] = { q[0] - p[0], q[1] - p[1] }, w[2] = { r[0] - p[0], r[1] - p[1] };
+        worst = std::min(worst, std::acos((u[0] * w[0] + u[1] * w[1]) / std::hypot(u[0], u[1]) / std::hypot(w[0], w[1])) * 180.0 / M_PI);
+      }
+    return worst;
+  };
+  ASSERT_LT(smallest(strip), 3.0);
+  std::vector<std::int64_t> mended = strip;
+  ar::CollapseThinStripTriangles(x, N, 5.0, mended);
+  ASSERT_EQ(mended.size(), 12u) << "the two triangles on the edge N-B go";
+  EXPECT_EQ(std::count(mended.begin(), mended.end(), N), 0) << "N is merged away";
+  EXPECT_NEAR(smallest(mended), std::atan(0.5) * 180.0 / M_PI, 1e-9) << "(B, E, D) and (B, F, E): 26.6 degrees";
+  double area = 0.0;
+  for (std::size_t k = 0; k < mended.size(); k += 3)
+  {
+    const double* p = &x[3 * mended[k]];
+    const double* q = &x[3 * mended[k + 1]];
+    const double* r = &x[3 * mended[k + 2]];
+    const double z = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+    EXPECT_GT(z, 0.0) << "no triangle turned over";
+    area += 0.5 * z;
+  }
+  EXPECT_NEAR(area, 4.0, 1e-12) << "the strip still covers the band";
+  // S's and the boundary's points never go: with N counted as theirs
+  // (firstNew past it) nothing changes.
+  std::vector<std::int64_t> fixed = strip;
+  ar::CollapseThinStripTriangles(x, N + 1, 5.0, fixed);
+  EXPECT_EQ(fixed, strip);
 }
 
 TEST(Cavity, TetGenFailureIsReportedNotThrown)

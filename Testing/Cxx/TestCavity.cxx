@@ -390,17 +390,18 @@ TEST(Cavity, SurfaceIsTrimmedAtTheLockedLayerRegion)
   EXPECT_NE(Refusal(v, s, bad).find("does not exist"), std::string::npos);
 }
 
-TEST(SurfaceRemesh, IsotropicAtTheTargetLengthKeepingTheOutline)
+/// A remeshed sheet over the unit square: its area, its mean edge length and
+/// the smallest angle of the triangles with no corner on the square's
+/// outline (x or y within `tol` of 0 or 1).
+struct SheetMeasures
 {
-  // A coarse, badly shaped triangulation of the unit square (two long thin triangles per strip).
-  const Surface coarse = Grid(2, 8, 0.0, 1.0, 0.0, 1.0, [](double u, double v) {
-    return std::array<double, 3>{ u, v, 0.3 * u };
-  });
-  std::vector<double> pts;
-  std::vector<std::int64_t> tris;
-  std::string error;
-  ASSERT_TRUE(ar::RemeshSurfaceIsotropic(coarse.Points, coarse.Triangles, 0.05, pts, tris, error)) << error;
-  double area = 0.0, sum = 0.0, worst = 180.0;
+  double Area = 0.0, MeanEdge = 0.0, WorstInside = 180.0;
+};
+
+static SheetMeasures MeasureSheet(const std::vector<double>& pts, const std::vector<std::int64_t>& tris, double tol)
+{
+  SheetMeasures m;
+  double sum = 0.0;
   std::size_t edges = 0;
   for (std::size_t t = 0; t < tris.size() / 3; ++t)
   {
@@ -415,20 +416,35 @@ TEST(SurfaceRemesh, IsotropicAtTheTargetLengthKeepingTheOutline)
       ++edges;
     }
     const double s2 = 0.5 * (l[0] + l[1] + l[2]);
-    area += std::sqrt(std::max(0.0, s2 * (s2 - l[0]) * (s2 - l[1]) * (s2 - l[2])));
-    bool border = false;
+    m.Area += std::sqrt(std::max(0.0, s2 * (s2 - l[0]) * (s2 - l[1]) * (s2 - l[2])));
+    bool outline = false;
     for (int k = 0; k < 3; ++k)
-      border = border || p[k][0] < 1e-9 || p[k][0] > 1 - 1e-9 || p[k][1] < 1e-9 || p[k][1] > 1 - 1e-9;
-    for (int k = 0; k < 3 && !border; ++k)
+      outline = outline || p[k][0] < tol || p[k][0] > 1 - tol || p[k][1] < tol || p[k][1] > 1 - tol;
+    for (int k = 0; k < 3 && !outline; ++k)
     {
       const double c = (l[(k + 1) % 3] * l[(k + 1) % 3] + l[(k + 2) % 3] * l[(k + 2) % 3] - l[k] * l[k]) /
         (2 * l[(k + 1) % 3] * l[(k + 2) % 3]);
-      worst = std::min(worst, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
+      m.WorstInside = std::min(m.WorstInside, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
     }
   }
-  EXPECT_NEAR(area, std::hypot(1.0, 0.3), 1e-9) << "the plane's area is kept (outline fixed)";
-  EXPECT_NEAR(sum / edges, 0.05, 0.01) << "mean edge length";
-  EXPECT_GT(worst, 25.0) << "no sliver triangles away from the (protected) outline";
+  m.MeanEdge = edges ? sum / static_cast<double>(edges) : 0.0;
+  return m;
+}
+
+TEST(SurfaceRemesh, IsotropicAtTheTargetLengthKeepingTheOutline)
+{
+  // A coarse, badly shaped triangulation of the unit square (two long thin triangles per strip).
+  const Surface coarse = Grid(2, 8, 0.0, 1.0, 0.0, 1.0, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.3 * u };
+  });
+  std::vector<double> pts;
+  std::vector<std::int64_t> tris;
+  std::string error;
+  ASSERT_TRUE(ar::RemeshSurfaceIsotropic(coarse.Points, coarse.Triangles, 0.05, pts, tris, error)) << error;
+  const SheetMeasures m = MeasureSheet(pts, tris, 1e-9);
+  EXPECT_NEAR(m.Area, std::hypot(1.0, 0.3), 1e-9) << "the plane's area is kept (outline fixed)";
+  EXPECT_NEAR(m.MeanEdge, 0.05, 0.01) << "mean edge length";
+  EXPECT_GT(m.WorstInside, 25.0) << "no sliver triangles away from the (protected) outline";
   // Refused: a non-positive length, a NaN.
   EXPECT_FALSE(ar::RemeshSurfaceIsotropic(coarse.Points, coarse.Triangles, 0.0, pts, tris, error));
   EXPECT_NE(error.find("positive"), std::string::npos) << error;
@@ -487,35 +503,10 @@ TEST(SurfaceRemesh, LargeSurfaceInTwoPiecesJoinedWithoutACrack)
   EXPECT_LT(border, 4.0 / L * 2.5);
   // The area kept, the size and the shape as without the cut (the cut's
   // neighbourhood included).
-  double area = 0.0, sum = 0.0, worst = 180.0;
-  std::size_t edges = 0;
-  for (std::size_t t = 0; t < tris.size() / 3; ++t)
-  {
-    const double* p[3] = { &pts[3 * tris[3 * t]], &pts[3 * tris[3 * t + 1]], &pts[3 * tris[3 * t + 2]] };
-    double l[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      const double* a = p[k];
-      const double* b = p[(k + 1) % 3];
-      l[k] = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-      sum += l[k];
-      ++edges;
-    }
-    const double s2 = 0.5 * (l[0] + l[1] + l[2]);
-    area += std::sqrt(std::max(0.0, s2 * (s2 - l[0]) * (s2 - l[1]) * (s2 - l[2])));
-    bool outline = false;
-    for (int k = 0; k < 3; ++k)
-      outline = outline || onOutline(tris[3 * t + k]);
-    for (int k = 0; k < 3 && !outline; ++k)
-    {
-      const double c = (l[(k + 1) % 3] * l[(k + 1) % 3] + l[(k + 2) % 3] * l[(k + 2) % 3] - l[k] * l[k]) /
-        (2 * l[(k + 1) % 3] * l[(k + 2) % 3]);
-      worst = std::min(worst, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
-    }
-  }
-  EXPECT_NEAR(area, std::hypot(1.0, 0.3), 1e-9) << "the plane's area is kept (outline fixed)";
-  EXPECT_NEAR(sum / edges, L, 0.1 * L) << "mean edge length";
-  EXPECT_GT(worst, 20.0) << "no sliver triangles away from the outline, the cut's neighbourhood included";
+  const SheetMeasures m = MeasureSheet(pts, tris, 1e-12);
+  EXPECT_NEAR(m.Area, std::hypot(1.0, 0.3), 1e-9) << "the plane's area is kept (outline fixed)";
+  EXPECT_NEAR(m.MeanEdge, L, 0.1 * L) << "mean edge length";
+  EXPECT_GT(m.WorstInside, 20.0) << "no sliver triangles away from the outline, the cut's neighbourhood included";
 }
 
 TEST(CavitySeparator, ThinStripTrianglesMendedByCollapsingTheStripsOwnPoint)

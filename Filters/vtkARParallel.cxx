@@ -249,7 +249,6 @@ vtkSmartPointer<vtkPolyData> TetrahedralBoundary(vtkDataSet* domain)
   const vtkIdType block = 65536;
   const vtkIdType nBlocks = (nPoints + block - 1) / block;
   std::vector<std::vector<std::array<vtkIdType, 3>>> blockTri(static_cast<std::size_t>(nBlocks));
-  std::vector<char> used(static_cast<std::size_t>(nPoints), 0);
   vtkSMPTools::For(0, nBlocks, 1, [&](vtkIdType firstBlock, vtkIdType lastBlock) {
     for (vtkIdType b = firstBlock; b < lastBlock && !bad; ++b)
     {
@@ -290,6 +289,7 @@ vtkSmartPointer<vtkPolyData> TetrahedralBoundary(vtkDataSet* domain)
   {
     tri.insert(tri.end(), b.begin(), b.end());
   }
+  std::vector<char> used(static_cast<std::size_t>(nPoints), 0);
   for (const std::array<vtkIdType, 3>& t : tri)
   {
     used[t[0]] = used[t[1]] = used[t[2]] = 1;

@@ -224,7 +224,7 @@ void CollapseThinTriangles(const Geometry& g, std::int64_t firstNew, double minA
     for (std::size_t t = 0; 3 * t < strip.size() && !changed; ++t)
     {
       const std::int64_t* f = &strip[3 * t];
-      if (f[0] < 0 || MinAngle(g, f[0], f[1], f[2]) >= minAngle)
+      if (MinAngle(g, f[0], f[1], f[2]) >= minAngle)
       {
         continue;
       }
@@ -238,13 +238,14 @@ void CollapseThinTriangles(const Geometry& g, std::int64_t firstNew, double minA
         {
           continue;
         }
+        const std::vector<std::int64_t> nv = neighbours(v);
         for (int b = 1; b < 3; ++b)
         {
           const std::int64_t u = f[(a + b) % 3];
           // Manifold: the common neighbours of v and u are the third
           // corners of the triangles on their edge.
           std::vector<std::int64_t> common, third;
-          const std::vector<std::int64_t> nv = neighbours(v), nu = neighbours(u);
+          const std::vector<std::int64_t> nu = neighbours(u);
           std::set_intersection(nv.begin(), nv.end(), nu.begin(), nu.end(), std::back_inserter(common));
           for (const std::size_t s : star[v])
           {
@@ -757,7 +758,28 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
     }
   }
   CollapseThinTriangles(h, firstNew, minAngle, strip);
-  // The strip's own points that its triangles still use, renumbered.
+  // ---- Its quality, and nothing crossed.
+  double worst = 180.0;
+  for (std::size_t t = 0; 3 * t < strip.size(); ++t)
+  {
+    worst = std::min(worst, MinAngle(h, strip[3 * t], strip[3 * t + 1], strip[3 * t + 2]));
+  }
+  if (worst < minAngle)
+  {
+    why = "the strip has a " + std::to_string(worst) + " degree angle";
+    strip.clear();
+    return false;
+  }
+  std::vector<std::int64_t> others = boundary;
+  others.insert(others.end(), surface.begin(), surface.end());
+  if (StripCrosses(h, strip, others))
+  {
+    why = "the strip would cross the boundary or S";
+    strip.clear();
+    return false;
+  }
+  // The strip's own points that its triangles still use (the collapses
+  // leave some unused), renumbered.
   std::vector<std::int64_t> renumber(all.size() / 3 - static_cast<std::size_t>(firstNew), -1);
   std::vector<double> added;
   for (std::int64_t& v : strip)
@@ -772,32 +794,6 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
       }
       v = r;
     }
-  }
-  const std::vector<double> used = [&] {
-    std::vector<double> u(all.begin(), all.begin() + 3 * firstNew);
-    u.insert(u.end(), added.begin(), added.end());
-    return u;
-  }();
-  const Geometry mended{ used };
-  // ---- Its quality, and nothing crossed.
-  double worst = 180.0;
-  for (std::size_t t = 0; 3 * t < strip.size(); ++t)
-  {
-    worst = std::min(worst, MinAngle(mended, strip[3 * t], strip[3 * t + 1], strip[3 * t + 2]));
-  }
-  if (worst < minAngle)
-  {
-    why = "the strip has a " + std::to_string(worst) + " degree angle";
-    strip.clear();
-    return false;
-  }
-  std::vector<std::int64_t> others = boundary;
-  others.insert(others.end(), surface.begin(), surface.end());
-  if (StripCrosses(mended, strip, others))
-  {
-    why = "the strip would cross the boundary or S";
-    strip.clear();
-    return false;
   }
   newPoints = std::move(added);
   return true;

@@ -184,7 +184,7 @@ void Append(const Mesh& mesh, const Mesh::Property_map<Mesh::Vertex_index, std::
  * target length as the border's are; each piece a mesh of its own whose
  * vertices carry their id in `mesh` ("v:ar_shared"). False where a piece
  * would not be a manifold (it touches the other at a single vertex, say):
- * the surface is then remeshed whole.
+ * the surface is then remeshed whole (with the cut's edges split).
  */
 bool CutInTwo(Mesh& mesh, double edgeLength, std::array<Mesh, 2>& pieces)
 {
@@ -242,12 +242,14 @@ bool CutInTwo(Mesh& mesh, double edgeLength, std::array<Mesh, 2>& pieces)
     PMP::split_long_edges(cutEdges, edgeLength, mesh, CGAL::parameters::edge_is_constrained_map(cut));
     for (const Mesh::Vertex_index v : mesh.vertices())
     {
+      // (a split's new point: its edge's ends are the input's)
       for (const Mesh::Halfedge_index h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
       {
-        if (wholeComponent[v] < 0)
+        if (wholeComponent[v] >= 0)
         {
-          wholeComponent[v] = wholeComponent[mesh.source(h)]; // (the split edge's ends are the input's)
+          break;
         }
+        wholeComponent[v] = wholeComponent[mesh.source(h)];
       }
     }
     std::vector<Mesh::Face_index> front;

@@ -607,80 +607,9 @@ void CavityRun::ComputeMeans(std::vector<char>& need)
 // ---- Face adjacency of V; its boundary faces (the domain boundary's tree).
 bool CavityRun::BuildAdjacency()
 {
-  neighbor.assign(4 * nT, -1);
+  if (!TetFaceNeighbors(V.Tetrahedra.data(), nT, nV, neighbor, error, static_cast<int>(Threads())))
   {
-    // Faces bucketed by their smallest node (a counting sort, linear), then
-    // matched within each small bucket by their other two nodes.
-    struct Face
-    {
-      std::int64_t B, C, TetFace;
-      bool operator<(const Face& o) const { return B < o.B || (B == o.B && C < o.C); }
-    };
-    // Face f of a tetrahedron is the one opposite its vertex f. With the
-    // vertices sorted once per tetrahedron, each face's key is the sorted
-    // triple left when one vertex is dropped.
-    auto sortedTet = [&](std::size_t t, std::array<std::int64_t, 4>& s, std::array<int, 4>& local) {
-      std::array<std::pair<std::int64_t, int>, 4> p;
-      for (int k = 0; k < 4; ++k)
-      {
-        p[k] = { V.Tetrahedra[4 * t + k], k };
-      }
-      std::sort(p.begin(), p.end());
-      for (int k = 0; k < 4; ++k)
-      {
-        s[k] = p[k].first;
-        local[k] = p[k].second;
-      }
-    };
-    std::vector<std::int64_t> offset(nV + 1, 0);
-    for (std::size_t t = 0; t < nT; ++t)
-    {
-      std::array<std::int64_t, 4> s;
-      std::array<int, 4> local;
-      sortedTet(t, s, local);
-      // dropping s[0] leaves a face keyed by s[1]; the other three by s[0]
-      ++offset[s[1] + 1];
-      offset[s[0] + 1] += 3;
-    }
-    std::partial_sum(offset.begin(), offset.end(), offset.begin());
-    std::vector<Face> faces(4 * nT);
-    std::vector<std::int64_t> fill(offset.begin(), offset.end() - 1);
-    for (std::size_t t = 0; t < nT; ++t)
-    {
-      std::array<std::int64_t, 4> s;
-      std::array<int, 4> local;
-      sortedTet(t, s, local);
-      const std::int64_t base = static_cast<std::int64_t>(4 * t);
-      faces[fill[s[1]]++] = Face{ s[2], s[3], base + local[0] };
-      faces[fill[s[0]]++] = Face{ s[2], s[3], base + local[1] };
-      faces[fill[s[0]]++] = Face{ s[1], s[3], base + local[2] };
-      faces[fill[s[0]]++] = Face{ s[1], s[2], base + local[3] };
-    }
-    for (std::size_t v = 0; v < nV; ++v)
-    {
-      const auto first = faces.begin() + offset[v], last = faces.begin() + offset[v + 1];
-      std::sort(first, last);
-      for (auto i = first; i != last;)
-      {
-        auto j = i + 1;
-        while (j != last && j->B == i->B && j->C == i->C)
-        {
-          ++j;
-        }
-        if (j - i > 2)
-        {
-          error = "the volume mesh is not conforming: a face is shared by " +
-            std::to_string(j - i) + " tetrahedra.";
-          return false;
-        }
-        if (j - i == 2)
-        {
-          neighbor[i->TetFace] = (i + 1)->TetFace / 4;
-          neighbor[(i + 1)->TetFace] = i->TetFace / 4;
-        }
-        i = j;
-      }
-    }
+    return false;
   }
   for (std::size_t t = 0; t < nT; ++t)
   {

@@ -7,7 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <array>
+#include <atomic>
+#include <cstdint>
 #include <limits>
+#include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace ar
@@ -287,5 +292,175 @@ std::size_t SmoothFreePointsAtSlivers(TetMesh& mesh, std::size_t firstFree, doub
     }
   }
   return static_cast<std::size_t>(std::count(moved.begin(), moved.end(), char(1)));
+}
+}
+
+namespace ar
+{
+namespace
+{
+/// TetFaceNeighbors with the faces' ids in U (32 bits where they fit: the
+/// face list is the largest array here, 4 per tetrahedron).
+template <typename U>
+bool MatchFaces(const std::int64_t* tets, std::size_t nT, std::size_t nV, std::vector<std::int64_t>& neighbor,
+  std::string& error, std::size_t threads)
+{
+  struct Face
+  {
+    U B, C, TetFace; // the face's two larger ids, and 4 t + f
+    bool operator<(const Face& o) const { return B < o.B || (B == o.B && C < o.C); }
+  };
+  // A tetrahedron's ids sorted, with the corner each came from: face f
+  // (opposite corner f) is keyed by the sorted triple left when corner f is
+  // dropped, so the face dropping s[0] is in bucket s[1] and the other three
+  // in bucket s[0].
+  auto sortedTet = [&](std::size_t t, std::array<std::int64_t, 4>& s, std::array<int, 4>& local) {
+    std::array<std::pair<std::int64_t, int>, 4> p;
+    for (int k = 0; k < 4; ++k)
+    {
+      p[k] = { tets[4 * t + k], k };
+    }
+    std::sort(p.begin(), p.end());
+    for (int k = 0; k < 4; ++k)
+    {
+      s[k] = p[k].first;
+      local[k] = p[k].second;
+    }
+  };
+  const std::size_t grain = 65536;
+  std::vector<std::atomic<std::size_t>> next(nV + 1);
+  ParallelFor(
+    nV + 1,
+    [&](std::size_t first, std::size_t last) {
+      for (std::size_t v = first; v < last; ++v)
+      {
+        next[v].store(0, std::memory_order_relaxed);
+      }
+    },
+    threads, grain);
+  ParallelFor(
+    nT,
+    [&](std::size_t first, std::size_t last) {
+      std::array<std::int64_t, 4> s;
+      std::array<int, 4> local;
+      for (std::size_t t = first; t < last; ++t)
+      {
+        sortedTet(t, s, local);
+        next[static_cast<std::size_t>(s[1]) + 1].fetch_add(1, std::memory_order_relaxed);
+        next[static_cast<std::size_t>(s[0]) + 1].fetch_add(3, std::memory_order_relaxed);
+      }
+    },
+    threads, grain);
+  std::vector<std::size_t> offset(nV + 1, 0);
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    offset[v + 1] = offset[v] + next[v + 1].load(std::memory_order_relaxed);
+    next[v].store(offset[v], std::memory_order_relaxed); // bucket v's next free slot
+  }
+  // Filled before read, so not value-initialized (every slot is written once).
+  std::unique_ptr<Face[]> faces(new Face[4 * nT]);
+  ParallelFor(
+    nT,
+    [&](std::size_t first, std::size_t last) {
+      std::array<std::int64_t, 4> s;
+      std::array<int, 4> local;
+      for (std::size_t t = first; t < last; ++t)
+      {
+        sortedTet(t, s, local);
+        const std::size_t base = 4 * t;
+        auto put = [&](std::int64_t key, std::int64_t b, std::int64_t c, int corner) {
+          faces[next[static_cast<std::size_t>(key)].fetch_add(1, std::memory_order_relaxed)] =
+            Face{ static_cast<U>(b), static_cast<U>(c), static_cast<U>(base + static_cast<std::size_t>(corner)) };
+        };
+        put(s[1], s[2], s[3], local[0]);
+        put(s[0], s[2], s[3], local[1]);
+        put(s[0], s[1], s[3], local[2]);
+        put(s[0], s[1], s[2], local[3]);
+      }
+    },
+    threads, grain);
+  neighbor.assign(4 * nT, -1);
+  // Each bucket sorted by the other two ids; a face's entries are then
+  // adjacent and each bucket writes its own faces' entries. Where a face is
+  // in three tetrahedra or more, the lowest such bucket is reported, on any
+  // number of threads.
+  std::atomic<std::size_t> firstBad(nV);
+  ParallelFor(
+    nV,
+    [&](std::size_t first, std::size_t last) {
+      for (std::size_t v = first; v < last; ++v)
+      {
+        Face* begin = faces.get() + offset[v];
+        Face* end = faces.get() + offset[v + 1];
+        std::sort(begin, end);
+        for (Face* i = begin; i != end;)
+        {
+          Face* j = i + 1;
+          while (j != end && j->B == i->B && j->C == i->C)
+          {
+            ++j;
+          }
+          if (j - i > 2)
+          {
+            std::size_t seen = firstBad.load();
+            while (v < seen && !firstBad.compare_exchange_weak(seen, v))
+            {
+            }
+            return;
+          }
+          if (j - i == 2)
+          {
+            neighbor[i->TetFace] = static_cast<std::int64_t>((i + 1)->TetFace / 4);
+            neighbor[(i + 1)->TetFace] = static_cast<std::int64_t>(i->TetFace / 4);
+          }
+          i = j;
+        }
+      }
+    },
+    threads, grain);
+  const std::size_t bad = firstBad.load();
+  if (bad < nV)
+  {
+    // (the bucket is sorted: its first face in three or more tetrahedra)
+    const Face* begin = faces.get() + offset[bad];
+    const Face* end = faces.get() + offset[bad + 1];
+    std::ptrdiff_t most = 0;
+    for (const Face* i = begin; i != end && most <= 2;)
+    {
+      const Face* j = i + 1;
+      while (j != end && j->B == i->B && j->C == i->C)
+      {
+        ++j;
+      }
+      most = j - i;
+      i = j;
+    }
+    error = "the volume mesh is not conforming: a face is shared by " + std::to_string(most) + " tetrahedra.";
+    neighbor.clear();
+    return false;
+  }
+  return true;
+}
+}
+
+bool TetFaceNeighbors(const std::int64_t* tets, std::size_t nT, std::size_t nV,
+  std::vector<std::int64_t>& neighbor, std::string& error, int threads)
+{
+  neighbor.clear();
+  for (std::size_t k = 0; k < 4 * nT; ++k)
+  {
+    if (tets[k] < 0 || static_cast<std::size_t>(tets[k]) >= nV)
+    {
+      error = "tetrahedron " + std::to_string(k / 4) + " refers to a point that does not exist (" +
+        std::to_string(tets[k]) + ").";
+      return false;
+    }
+  }
+  const std::size_t t = threads > 0 ? static_cast<std::size_t>(threads) : 0;
+  if (nV <= std::numeric_limits<std::uint32_t>::max() && 4 * nT <= std::numeric_limits<std::uint32_t>::max())
+  {
+    return MatchFaces<std::uint32_t>(tets, nT, nV, neighbor, error, t);
+  }
+  return MatchFaces<std::uint64_t>(tets, nT, nV, neighbor, error, t);
 }
 }

@@ -8,6 +8,11 @@
 
 #include "ARTetMesh.h"
 
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
 namespace ar
 {
 /// Signed volume: positive when (p1-p0).((p2-p0)x(p3-p0)) > 0.
@@ -47,6 +52,17 @@ double TotalSignedVolume(const TetMesh& mesh);
 /// hardware's; the same result on any number).
 std::size_t SmoothFreePointsAtSlivers(
   TetMesh& mesh, std::size_t firstFree, double minAngle, int passes = 4, int threads = 1);
+
+/// The tetrahedron across each face of `nT` tetrahedra (4 ids each, all
+/// below nV): neighbor[4 t + f] for the face of t opposite its corner f
+/// (TetFaceVertex), -1 where no other tetrahedron has that face (the mesh's
+/// boundary). The faces are matched by a counting sort on their smallest id
+/// and a sort of each small bucket, on `threads` threads (0: the
+/// hardware's), in 12 bytes a face while the ids fit 32 bits; the result is
+/// the same on any number. False, with `error` saying so, where a face is in
+/// more than two tetrahedra (a mesh that is not conforming).
+bool TetFaceNeighbors(const std::int64_t* tets, std::size_t nT, std::size_t nV,
+  std::vector<std::int64_t>& neighbor, std::string& error, int threads = 0);
 }
 
 #endif

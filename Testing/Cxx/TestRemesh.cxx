@@ -2,12 +2,17 @@
 #include "ARDelaunay.h"
 #include "ARTetGen.h"
 #include "ARTetGeometry.h"
+#include "ARTestMeshes.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 namespace
 {
@@ -51,6 +56,90 @@ TEST(TetGeometry, RegularTetrahedron)
   }
   // Edge length 2 sqrt 2: volume a^3 / (6 sqrt 2) = 8/3, negative for this ordering.
   EXPECT_NEAR(std::abs(ar::TetSignedVolume(p0, p1, p2, p3)), 8.0 / 3.0, 1e-12);
+}
+
+// Every face of a Kuhn cube with a hole through it (so that the boundary
+// has inner walls too): an interior face names its neighbour, which names
+// it back through the same three corners; a boundary face lies on the cube's
+// outer surface or on the hole's walls, and there are as many as the
+// squares of those surfaces times two.
+TEST(TetGeometry, FaceNeighboursOfACubeWithAHole)
+{
+  const int n = 30; // 162,000 tetrahedra less the hole's: two threads' worth
+  const ar::TetMesh m = artest::KuhnCube(n, [](int i, int j, int) { return !(i >= 10 && i < 14 && j >= 10 && j < 20); });
+  const std::size_t nT = m.NumberOfTetrahedra();
+  std::vector<std::int64_t> one, two;
+  std::string error;
+  ASSERT_TRUE(ar::TetFaceNeighbors(m.Tetrahedra.data(), nT, m.NumberOfPoints(), one, error, 1)) << error;
+  ASSERT_TRUE(ar::TetFaceNeighbors(m.Tetrahedra.data(), nT, m.NumberOfPoints(), two, error, 2)) << error;
+  EXPECT_EQ(one, two);
+  ASSERT_EQ(one.size(), 4 * nT);
+  auto face = [&](std::size_t t, int f) {
+    std::array<std::int64_t, 3> c;
+    for (int k = 0; k < 3; ++k)
+      c[k] = m.Tetrahedra[4 * t + ar::TetFaceVertex[f][k]];
+    std::sort(c.begin(), c.end());
+    return c;
+  };
+  auto onWall = [&](const std::array<std::int64_t, 3>& c) {
+    // all three corners share a coordinate that is a wall of the cube or the hole
+    for (int d = 0; d < 3; ++d)
+    {
+      const double x = m.Points[3 * c[0] + d];
+      bool same = true;
+      for (int k = 1; k < 3; ++k)
+        same = same && m.Points[3 * c[k] + d] == x;
+      const double g = x * n;
+      const bool wall = d == 2 ? (g == 0 || g == n) : (g == 0 || g == n || (d == 0 ? g == 10 || g == 14 : g == 10 || g == 20));
+      if (same && wall)
+        return true;
+    }
+    return false;
+  };
+  std::size_t boundary = 0;
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    for (int f = 0; f < 4; ++f)
+    {
+      const std::int64_t u = one[4 * t + f];
+      if (u < 0)
+      {
+        ++boundary;
+        EXPECT_TRUE(onWall(face(t, f))) << "tetrahedron " << t << " face " << f;
+        continue;
+      }
+      ASSERT_LT(static_cast<std::size_t>(u), nT);
+      int back = 0;
+      for (int g = 0; g < 4; ++g)
+        if (one[4 * u + g] == static_cast<std::int64_t>(t))
+        {
+          ++back;
+          EXPECT_EQ(face(static_cast<std::size_t>(u), g), face(t, f));
+        }
+      EXPECT_EQ(back, 1);
+    }
+  }
+  // outer: 6 n^2 squares less the hole's 4 x 10 on top and bottom; the
+  // hole's walls: 2 (4 + 10) n; two triangles a square
+  EXPECT_EQ(boundary, static_cast<std::size_t>(2 * (6 * n * n - 2 * 4 * 10 + 2 * (4 + 10) * n)));
+
+  // A third tetrahedron on an interior face, and a point that does not exist.
+  ar::TetMesh three = m;
+  std::size_t t0 = 0;
+  int f0 = 0;
+  while (one[4 * t0 + f0] < 0)
+    ++f0 == 4 ? (f0 = 0, ++t0) : 0;
+  three.Points.insert(three.Points.end(), { 2.0, 2.0, 2.0 });
+  const std::array<std::int64_t, 3> shared = face(t0, f0);
+  three.Tetrahedra.insert(three.Tetrahedra.end(),
+    { shared[0], shared[1], shared[2], static_cast<std::int64_t>(three.NumberOfPoints() - 1) });
+  std::vector<std::int64_t> neighbor;
+  EXPECT_FALSE(ar::TetFaceNeighbors(three.Tetrahedra.data(), nT + 1, three.NumberOfPoints(), neighbor, error, 2));
+  EXPECT_NE(error.find("shared by 3 tetrahedra"), std::string::npos) << error;
+  EXPECT_TRUE(neighbor.empty());
+  error.clear();
+  EXPECT_FALSE(ar::TetFaceNeighbors(m.Tetrahedra.data(), nT, m.NumberOfPoints() - 1, neighbor, error, 2));
+  EXPECT_NE(error.find("does not exist"), std::string::npos) << error;
 }
 
 TEST(Delaunay, CubeWithInteriorPointsFillsTheCube)

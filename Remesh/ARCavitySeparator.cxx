@@ -509,13 +509,28 @@ bool CavitySeparatingStrip(const std::vector<double>& points, const std::vector<
   ParallelFor(
     nBoundary,
     [&](std::size_t first, std::size_t last) {
+      // The boundary's triangles come in the cavity's order, mostly each
+      // next to the one before: that one's closest point is a hint from
+      // which AABB_tree's traversal is quicker than from its own (the
+      // nearest point of its kd-tree, slow to find this far from S): 0.68
+      // -> 0.48 s for the 5e6 cube's 45k faces. The closest point is the
+      // same either way; only where two triangles of S are exactly as near
+      // may the other be named, and its side is the same unless S folds there.
+      Tree::Point_and_primitive_id previous;
+      Pt previousC;
+      bool have = false;
       for (std::size_t t = first; t < last; ++t)
       {
         const Pt c = CGAL::centroid(g.At(boundary[3 * t]), g.At(boundary[3 * t + 1]), g.At(boundary[3 * t + 2]));
-        const auto hit = tree.closest_point_and_primitive(c);
+        const bool near =
+          have && CGAL::squared_distance(c, previousC) < 0.25 * CGAL::squared_distance(previousC, previous.first);
+        const auto hit = near ? tree.closest_point_and_primitive(c, previous) : tree.closest_point_and_primitive(c);
         const Tri& s = *hit.second;
         const K::Vector_3 n = CGAL::cross_product(s[1] - s[0], s[2] - s[0]);
         plus[t] = (c - hit.first) * n >= 0.0 ? 1 : 0;
+        previous = hit;
+        previousC = c;
+        have = true;
       }
     },
     0, 256);

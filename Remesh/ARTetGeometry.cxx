@@ -131,6 +131,41 @@ double MinDihedral(const TetMesh& mesh, std::size_t t)
   return *std::min_element(angles, angles + 6);
 }
 
+/// Whether tetrahedron t has a dihedral angle below the one whose cosine is
+/// `cosBound`: TetDihedralAngles' test without its six arc cosines (the
+/// angle at an edge is 180 degrees less the angle between the outward
+/// normals of its two faces, so it is below the bound where their dot
+/// product is below -cosBound). A degenerate face counts as 90 degrees, as there.
+bool HasDihedralBelow(const TetMesh& mesh, std::size_t t, double cosBound)
+{
+  const std::int64_t* v = &mesh.Tetrahedra[4 * t];
+  const Eigen::Vector3d x[4] = { V(&mesh.Points[3 * v[0]]), V(&mesh.Points[3 * v[1]]), V(&mesh.Points[3 * v[2]]),
+    V(&mesh.Points[3 * v[3]]) };
+  Eigen::Vector3d n[4];
+  for (int f = 0; f < 4; ++f)
+  {
+    const Eigen::Vector3d& a = x[(f + 1) % 4];
+    Eigen::Vector3d nf = (x[(f + 2) % 4] - a).cross(x[(f + 3) % 4] - a);
+    if (nf.dot(x[f] - a) > 0.0)
+    {
+      nf = -nf;
+    }
+    const double len = nf.norm();
+    n[f] = len > 0.0 ? Eigen::Vector3d(nf / len) : Eigen::Vector3d::Zero();
+  }
+  for (int k = 0; k < 4; ++k)
+  {
+    for (int l = k + 1; l < 4; ++l)
+    {
+      if (std::clamp(n[k].dot(n[l]), -1.0, 1.0) < -cosBound)
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
 /// The smallest angle over `star` with point `p` at `x`; -1 if a tetrahedron is not positive.
 double StarMinAngle(TetMesh& mesh, const std::vector<std::size_t>& star, std::int64_t p, const double x[3])
 {
@@ -160,6 +195,7 @@ bool MarkSliverPoints(
   // free points flagged after.
   const std::size_t nT = mesh.NumberOfTetrahedra();
   std::vector<char> thin(nT, 0);
+  const double cosBound = std::cos(minAngle * M_PI / 180.0);
   ParallelFor(
     nT,
     [&](std::size_t first, std::size_t last) {
@@ -167,7 +203,7 @@ bool MarkSliverPoints(
       {
         const std::int64_t* v = &mesh.Tetrahedra[4 * t];
         thin[t] = std::any_of(v, v + 4, [&](std::int64_t p) { return static_cast<std::size_t>(p) >= firstFree; }) &&
-          MinDihedral(mesh, t) < minAngle;
+          HasDihedralBelow(mesh, t, cosBound);
       }
     },
     threads, 20000);

@@ -47,10 +47,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -120,9 +122,10 @@ vtkDataArray* CentringArrayOf(vtkDataSet* domain, const char* name, bool& cellDa
  * point (a point in a ghost cell is found twice, with the same value up to
  * round-off): every rank must call this with the same points. The points
  * come in lines of `perLine`, each `reach` local sizes to either side of its
- * middle point: only the cells with a node within reach + 2 local sizes of a
- * line's middle are searched (on 5e6 cells the locator over all of them
- * would cost more than the fit).
+ * middle point: only the cells with a node within 2 local sizes of a sample
+ * are searched (on 5e6 cells the locator over all of them would cost more
+ * than the fit). The search is on threads; its values are the same on any
+ * number of them.
  */
 std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, bool cellData,
   const std::vector<double>& points, int perLine, double reach, double tolerance)
@@ -163,20 +166,38 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     nodes->SetDataSet(source);
     nodes->BuildLocator();
     const vtkIdType npts = source->GetNumberOfPoints();
-    std::vector<char> near(static_cast<std::size_t>(npts), 0);
-    vtkNew<vtkIdList> found;
-    for (vtkIdType line = 0; line * perLine < m; ++line)
-    {
-      const double* mid = &points[3 * (line * perLine + perLine / 2)];
-      const double* end = &points[3 * (line * perLine + perLine - 1)];
-      const double half = std::sqrt(vtkMath::Distance2BetweenPoints(mid, end));
-      double x[3] = { mid[0], mid[1], mid[2] };
-      nodes->FindPointsWithinRadius(half * (1.0 + 2.0 / reach), x, found);
-      for (vtkIdType k = 0; k < found->GetNumberOfIds(); ++k)
+    // The nodes within 2 local sizes of a sample: every cell that can hold
+    // it has one (as wide cells are not searched). A band along the lines,
+    // about seven times smaller than the balls about their middles it was
+    // (the locator's build over the band was the probe's largest part).
+    // (on threads: a node near two samples is flagged by both, so the flags
+    // are atomic; the set flagged is the same on any number)
+    std::unique_ptr<std::atomic<char>[]> near(new std::atomic<char>[static_cast<std::size_t>(npts)]);
+    vtkSMPTools::For(0, npts, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType k = b; k < e; ++k)
       {
-        near[found->GetId(k)] = 1;
+        near[k].store(0, std::memory_order_relaxed);
       }
-    }
+    });
+    const vtkIdType nLines = (m + perLine - 1) / perLine;
+    vtkSMPTools::For(0, nLines, 64, [&](vtkIdType b, vtkIdType e) {
+      vtkNew<vtkIdList> found;
+      for (vtkIdType line = b; line < e; ++line)
+      {
+        const double* mid = &points[3 * (line * perLine + perLine / 2)];
+        const double* end = &points[3 * (line * perLine + perLine - 1)];
+        const double half = std::sqrt(vtkMath::Distance2BetweenPoints(mid, end));
+        for (vtkIdType j = line * perLine; j < std::min(m, (line + 1) * perLine); ++j)
+        {
+          double x[3] = { points[3 * j], points[3 * j + 1], points[3 * j + 2] };
+          nodes->FindPointsWithinRadius(2.0 * half / reach, x, found);
+          for (vtkIdType k = 0; k < found->GetNumberOfIds(); ++k)
+          {
+            near[found->GetId(k)].store(1, std::memory_order_relaxed);
+          }
+        }
+      }
+    });
     const vtkIdType ncells = source->GetNumberOfCells();
     std::vector<char> keep(static_cast<std::size_t>(ncells), 0);
     auto* grid = vtkUnstructuredGrid::SafeDownCast(source);
@@ -198,7 +219,7 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
         }
         for (vtkIdType k = 0; k < npts && !keep[c]; ++k)
         {
-          keep[c] = near[pts[k]];
+          keep[c] = near[pts[k]].load(std::memory_order_relaxed);
         }
       }
     });
@@ -218,7 +239,12 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     values = band->GetPointData()->GetArray(arrayName);
     vtkNew<vtkCellLocator> locator;
     locator->SetDataSet(band);
-    locator->BuildLocator();
+    if (band->GetNumberOfCells() > 0)
+    {
+      // Built here, once: FindCell on an empty or unbuilt locator would build
+      // it on each thread at once.
+      locator->BuildLocator();
+    }
     // A sample on a face (or an edge, a corner) lies in several cells, which
     // interpolate it alike up to round-off. It takes the one cell that comes
     // first by its corners' coordinates, whatever the cells' numbering, and
@@ -230,98 +256,103 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     vtkUnsignedCharArray* ghosts = domain->GetCellGhostArray();
     const double tol2 = tolerance * tolerance;
     band->BuildLinks();
-    vtkNew<vtkGenericCell> cell;
-    std::vector<double> wts(VTK_CELL_SIZE);
-    std::vector<vtkIdType> accepted, candidates;
-    vtkNew<vtkIdList> corners;
-    auto cornerKey = [&](vtkIdType c) {
-      band->GetCellPoints(c, corners);
-      std::vector<std::array<double, 3>> key(static_cast<std::size_t>(corners->GetNumberOfIds()));
-      for (vtkIdType k = 0; k < corners->GetNumberOfIds(); ++k)
+    // The samples on threads, each writing its own sums (vtkCellLocator's
+    // FindCell with a cell of the thread's own is thread safe): the same
+    // values on any number of threads.
+    struct Scratch
+    {
+      vtkNew<vtkGenericCell> cell;
+      std::vector<double> wts = std::vector<double>(VTK_CELL_SIZE);
+      std::vector<vtkIdType> accepted, candidates, support;
+      vtkNew<vtkIdList> corners;
+    };
+    auto cornerKey = [&](Scratch& z, vtkIdType c) {
+      band->GetCellPoints(c, z.corners);
+      std::vector<std::array<double, 3>> key(static_cast<std::size_t>(z.corners->GetNumberOfIds()));
+      for (vtkIdType k = 0; k < z.corners->GetNumberOfIds(); ++k)
       {
-        band->GetPoint(corners->GetId(k), key[k].data());
+        band->GetPoint(z.corners->GetId(k), key[k].data());
       }
       std::sort(key.begin(), key.end());
       return key;
     };
     // Whether cell c holds x: a tetrahedron by its barycentric coordinates
     // (closed, to round-off), another cell by EvaluatePosition.
-    auto holds = [&](vtkIdType c, const double x[3]) {
+    auto holds = [&](Scratch& z, vtkIdType c, const double x[3]) {
       if (band->GetCellType(c) == VTK_TETRA)
       {
-        band->GetCellPoints(c, corners);
+        band->GetCellPoints(c, z.corners);
         double p[4][3], b[4];
         for (int k = 0; k < 4; ++k)
         {
-          band->GetPoint(corners->GetId(k), p[k]);
+          band->GetPoint(z.corners->GetId(k), p[k]);
         }
         return vtkTetra::BarycentricCoords(const_cast<double*>(x), p[0], p[1], p[2], p[3], b) != 0 &&
           *std::min_element(b, b + 4) >= -1e-12;
       }
-      band->GetCell(c, cell);
+      band->GetCell(c, z.cell);
       double pcoords[3], d2;
       int s = 0;
-      return cell->EvaluatePosition(x, nullptr, s, pcoords, d2, wts.data()) == 1;
+      return z.cell->EvaluatePosition(x, nullptr, s, pcoords, d2, z.wts.data()) == 1;
     };
-    for (vtkIdType i = 0; i < m && values; ++i)
-    {
+    auto probe = [&](Scratch& z, vtkIdType i) {
       double x[3] = { points[3 * i], points[3 * i + 1], points[3 * i + 2] };
       double pc[3];
       int sub = 0;
-      const vtkIdType first = locator->FindCell(x, tol2, cell, sub, pc, wts.data());
+      const vtkIdType first = locator->FindCell(x, tol2, z.cell, sub, pc, z.wts.data());
       if (first < 0)
       {
-        continue;
+        return;
       }
       vtkIdType chosen = first;
-      const double* w = wts.data();
-      if (*std::min_element(w, w + cell->GetNumberOfPoints()) <= 0.01)
+      const double* w = z.wts.data();
+      if (*std::min_element(w, w + z.cell->GetNumberOfPoints()) <= 0.01)
       {
         // The sample is near a face, an edge or a corner of the cell: the
         // cells that can hold it too are those with every corner that
         // weighs (above 0.01), e.g. the neighbour across that face.
-        std::vector<vtkIdType> support;
-        for (vtkIdType k = 0; k < cell->GetNumberOfPoints(); ++k)
+        z.support.clear();
+        for (vtkIdType k = 0; k < z.cell->GetNumberOfPoints(); ++k)
         {
           if (w[k] > 0.01)
           {
-            support.push_back(cell->GetPointId(k));
+            z.support.push_back(z.cell->GetPointId(k));
           }
         }
-        candidates.clear();
+        z.candidates.clear();
         vtkIdType nAround;
         vtkIdType* around;
-        band->GetPointCells(support[0], nAround, around);
+        band->GetPointCells(z.support[0], nAround, around);
         for (vtkIdType k = 0; k < nAround; ++k)
         {
-          band->GetCellPoints(around[k], corners);
-          const vtkIdType* c0 = corners->GetPointer(0);
-          const vtkIdType* c1 = c0 + corners->GetNumberOfIds();
-          if (std::all_of(support.begin(), support.end(), [&](vtkIdType q) { return std::find(c0, c1, q) != c1; }))
+          band->GetCellPoints(around[k], z.corners);
+          const vtkIdType* c0 = z.corners->GetPointer(0);
+          const vtkIdType* c1 = c0 + z.corners->GetNumberOfIds();
+          if (std::all_of(z.support.begin(), z.support.end(), [&](vtkIdType q) { return std::find(c0, c1, q) != c1; }))
           {
-            candidates.push_back(around[k]);
+            z.candidates.push_back(around[k]);
           }
         }
         // The cells that hold the sample (a sample outside every cell, within
         // the tolerance of the domain's boundary, keeps the locator's cell).
-        accepted.clear();
-        for (const vtkIdType c : candidates)
+        z.accepted.clear();
+        for (const vtkIdType c : z.candidates)
         {
-          if (holds(c, x))
+          if (holds(z, c, x))
           {
-            accepted.push_back(c);
+            z.accepted.push_back(c);
           }
         }
-        if (!accepted.empty())
+        if (!z.accepted.empty())
         {
-          chosen = accepted[0];
-          auto best = cornerKey(chosen);
-          for (std::size_t k = 1; k < accepted.size(); ++k)
+          chosen = z.accepted[0];
+          auto best = cornerKey(z, chosen);
+          for (std::size_t k = 1; k < z.accepted.size(); ++k)
           {
-            const auto key = cornerKey(accepted[k]);
+            const auto key = cornerKey(z, z.accepted[k]);
             if (key < best)
             {
-              chosen = accepted[k];
+              chosen = z.accepted[k];
               best = key;
             }
           }
@@ -329,18 +360,28 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
       }
       if (ghosts && (ghosts->GetValue(cellIds->GetId(chosen)) & vtkDataSetAttributes::DUPLICATECELL))
       {
-        continue; // its owner answers
+        return; // its owner answers
       }
-      band->GetCell(chosen, cell);
+      band->GetCell(chosen, z.cell);
       double closest[3], d2;
-      cell->EvaluatePosition(x, closest, sub, pc, d2, wts.data());
+      z.cell->EvaluatePosition(x, closest, sub, pc, d2, z.wts.data());
       double v = 0.0;
-      for (vtkIdType k = 0; k < cell->GetNumberOfPoints(); ++k)
+      for (vtkIdType k = 0; k < z.cell->GetNumberOfPoints(); ++k)
       {
-        v += wts[k] * values->GetComponent(cell->GetPointId(k), 0);
+        v += z.wts[k] * values->GetComponent(z.cell->GetPointId(k), 0);
       }
       acc[i] = v;
       acc[m + i] = 1.0;
+    };
+    if (values && band->GetNumberOfCells() > 0)
+    {
+      vtkSMPTools::For(0, m, 1024, [&](vtkIdType b, vtkIdType e) {
+        Scratch z;
+        for (vtkIdType i = b; i < e; ++i)
+        {
+          probe(z, i);
+        }
+      });
     }
   }
   vtkARParallel::AllReduceSum(acc.data(), static_cast<int>(acc.size()));

@@ -230,11 +230,34 @@ double CellVolume(CellShape shape, const double* points)
 CellQuality ComputeCellQuality(CellShape shape, const double* points, bool scaledJacobian)
 {
   CellQuality q;
-  double angles[12], jacobians[8];
-  const int nEdges = NumberOfEdges(shape), nNodes = NumberOfNodes(shape);
-  CellDihedralAngles(shape, points, angles);
-  q.MinDihedralAngle = *std::min_element(angles, angles + nEdges);
-  q.MaxDihedralAngle = *std::max_element(angles, angles + nEdges);
+  double jacobians[8];
+  const int nNodes = NumberOfNodes(shape);
+  // The extreme angles from the extreme cosines: two arc cosines per cell
+  // instead of one per edge (acos decreases, so CellDihedralAngles' extremes
+  // bit for bit; an edge at a face of zero area counts as 0 degrees).
+  const Topology& t = Of(shape);
+  std::array<Eigen::Vector3d, 6> n;
+  for (std::size_t f = 0; f < t.Faces.size(); ++f)
+  {
+    n[f] = Normal(points, t.Faces[f]);
+  }
+  double most = -std::numeric_limits<double>::infinity(), least = std::numeric_limits<double>::infinity();
+  bool flat = false;
+  for (const Topology::Edge& e : t.Edges)
+  {
+    const Eigen::Vector3d& a = n[e.F];
+    const Eigen::Vector3d& b = n[e.G];
+    if (a.squaredNorm() == 0.0 || b.squaredNorm() == 0.0)
+    {
+      flat = true;
+      continue;
+    }
+    const double c = std::clamp(-a.dot(b), -1.0, 1.0);
+    most = std::max(most, c);
+    least = std::min(least, c);
+  }
+  q.MinDihedralAngle = flat ? 0.0 : std::acos(most) * 180.0 / M_PI;
+  q.MaxDihedralAngle = least <= 1.0 ? std::acos(least) * 180.0 / M_PI : 0.0;
   CellCornerJacobians(shape, points, jacobians, false);
   q.MinCornerJacobian = *std::min_element(jacobians, jacobians + nNodes);
   if (scaledJacobian)

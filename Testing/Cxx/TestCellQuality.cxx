@@ -257,3 +257,44 @@ TEST(CellQuality, Volumes)
   EXPECT_NEAR(a + b, 1.0, 1e-15);
   EXPECT_NEAR(a, 0.45, 1e-15); // the warped face split at its centroid (0.5, 0.5, 0.45)
 }
+
+// ComputeCellQuality takes the extreme angles from the extreme cosines; they
+// must be CellDihedralAngles' extremes exactly, on perturbed cells of every
+// shape and on cells with a face of zero area (that edge counts as 0).
+TEST(CellQuality, ExtremeAnglesEqualThePerEdgeOnes)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  const std::vector<std::pair<ar::CellShape, std::vector<double>>> cells = {
+    { ar::CellShape::Tetrahedron, { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1 } },
+    { ar::CellShape::Pyramid, Pyramid(1.0) },
+    { ar::CellShape::Wedge, RightPrism(0.7) },
+    { ar::CellShape::Hexahedron, Cube(1.0, 0.0) },
+  };
+  int flats = 0;
+  for (const auto& [shape, base] : cells)
+  {
+    const int nEdges = ar::NumberOfEdges(shape);
+    for (int trial = 0; trial < 300; ++trial)
+    {
+      std::vector<double> p = base;
+      for (double& x : p)
+      {
+        x += u(rng);
+      }
+      if (trial % 50 == 0)
+      {
+        // corner 1 onto corner 0: the faces through both have zero area (a
+        // hexahedron's quads keep an area: their normals are the diagonals')
+        std::copy(p.begin(), p.begin() + 3, p.begin() + 3);
+      }
+      double a[12];
+      ar::CellDihedralAngles(shape, p.data(), a);
+      const ar::CellQuality q = ar::ComputeCellQuality(shape, p.data(), false);
+      EXPECT_EQ(q.MinDihedralAngle, *std::min_element(a, a + nEdges));
+      EXPECT_EQ(q.MaxDihedralAngle, *std::max_element(a, a + nEdges));
+      flats += q.MinDihedralAngle == 0.0 ? 1 : 0;
+    }
+  }
+  EXPECT_GE(flats, 12); // the collapsed tetrahedra, pyramids and prisms
+}

@@ -933,7 +933,7 @@ bool Remesh2DRun::Summary()
   vtkEmbeddedRemeshCells& cells = *cellsPtr;
   cells.Finish(layered);
   vtkEmbeddedRemeshSummary summary;
-  summary.Quality = vtkEmbeddedRemeshAddQualityArrays(output, cells.Region());
+  summary.Quality = vtkEmbeddedRemeshAddQualityArrays(output, cells.Region(), axis);
 
   // ---- Field data and the embedded surface (quads: the extruded curve segments).
   summary.TwoDimensional = true;

@@ -138,7 +138,39 @@ void vtkEmbeddedRemeshSurfaceAreaAndDiagonal(const vtkEmbeddedRemeshSoup& soup, 
 }
 
 //------------------------------------------------------------------------------
-vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region)
+double vtkEmbeddedRemeshIdealStepLength(double edge, double layer, bool twoDimensional)
+{
+  if (!(edge > 0.0))
+  {
+    return 0.0;
+  }
+  // Built and measured as the output's cells are. 3-D: the regular
+  // tetrahedron of edge e, the right prism over the equilateral triangle of
+  // side e, `layer` high; 2-D (depth along z, left out): the equilateral
+  // triangle, the e x layer rectangle.
+  const double h = std::sqrt(3.0) / 2.0, e = edge, t = layer;
+  if (t <= 0.0)
+  {
+    if (twoDimensional)
+    {
+      const double prism[18] = { 0, 0, 0, 0.5 * e, h * e, 0, e, 0, 0, 0, 0, e, 0.5 * e, h * e, e, e, 0, e };
+      return ar::CellStepLength(ar::CellShape::Wedge, prism, 2);
+    }
+    const double tet[12] = { 0, 0, 0, e, 0, 0, 0.5 * e, h * e, 0, 0.5 * e, h * e / 3.0, e * std::sqrt(2.0 / 3.0) };
+    return ar::CellStepLength(ar::CellShape::Tetrahedron, tet);
+  }
+  if (twoDimensional)
+  {
+    const double hex[24] = { 0, 0, 0, e, 0, 0, e, t, 0, 0, t, 0, 0, 0, e, e, 0, e, e, t, e, 0, t, e };
+    return ar::CellStepLength(ar::CellShape::Hexahedron, hex, 2);
+  }
+  const double prism[18] = { 0, 0, 0, 0.5 * e, h * e, 0, e, 0, 0, 0, 0, t, 0.5 * e, h * e, t, e, 0, t };
+  return ar::CellStepLength(ar::CellShape::Wedge, prism);
+}
+
+//------------------------------------------------------------------------------
+vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(
+  vtkUnstructuredGrid* output, vtkIntArray* region, int depthAxis)
 {
   const vtkIdType n = output->GetNumberOfCells();
   vtkNew<vtkDoubleArray> minAngle, maxAngle, aspect;
@@ -208,6 +240,11 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
       maxAngle->SetValue(c, q.MaxDihedralAngle);
       aspect->SetValue(c, q.AspectRatio);
       sums.NonPositiveJacobian += q.MinCornerJacobian > 0.0 ? 0.0 : 1.0;
+      if (region->GetValue(c) != 0) // new cells only: the kept ones' steps are the input's
+      {
+        double& step = region->GetValue(c) == 1 ? sums.NewMinStep : sums.LayerMinStep;
+        step = std::min(step, ar::CellStepLength(shape, x, depthAxis));
+      }
       if (region->GetValue(c) == 1)
       {
         sums.NewCells += 1.0;
@@ -252,6 +289,8 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
     sums.NewLayerTetrahedra += s.NewLayerTetrahedra;
     sums.NewLayerHexahedra += s.NewLayerHexahedra;
     sums.NonPositiveJacobian += s.NonPositiveJacobian;
+    sums.NewMinStep = std::min(sums.NewMinStep, s.NewMinStep);
+    sums.LayerMinStep = std::min(sums.LayerMinStep, s.LayerMinStep);
   }
   output->GetCellData()->AddArray(minAngle);
   output->GetCellData()->AddArray(maxAngle);
@@ -278,13 +317,32 @@ void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmb
   field("LayerHexahedra", sums.NewLayerHexahedra);
 }
 
+void vtkEmbeddedRemeshAddStepFields(vtkUnstructuredGrid* output, const vtkEmbeddedRemeshQuality& sums,
+  double edge, const ar::PrismLayerOptions& layers, bool twoDimensional)
+{
+  auto field = [&](const char* name, double value) {
+    output->GetFieldData()->AddArray(vtkARMeshKernels::FieldArray(name, &value, 1));
+  };
+  const bool anyNew = std::isfinite(sums.NewMinStep), anyLayer = std::isfinite(sums.LayerMinStep);
+  field("StepLengthNew", anyNew ? sums.NewMinStep : 0.0);
+  field("StepLengthLayerCells", anyLayer ? sums.LayerMinStep : 0.0);
+  const double iso = vtkEmbeddedRemeshIdealStepLength(edge, 0.0, twoDimensional);
+  field("StepLengthRatioNew", anyNew && iso > 0.0 ? sums.NewMinStep / iso : 0.0);
+  std::vector<double> z;
+  std::string unused;
+  const bool on = layers.NumberOfLayers > 0 && ar::PrismLayerDistances(layers, z, unused);
+  const double flat = on ? vtkEmbeddedRemeshIdealStepLength(edge, z[1], twoDimensional) : 0.0;
+  field("StepLengthRatioLayerCells", anyLayer && flat > 0.0 ? sums.LayerMinStep / flat : 0.0);
+}
+
 void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
 {
   double sums[8] = { q.NewCells, q.NewDihedralSum, q.NonPositiveJacobian, q.LayerCells, q.NewPrisms,
     q.NewPyramids, q.NewLayerTetrahedra, q.NewLayerHexahedra };
-  double maxima[4] = { -q.NewMinDihedral, q.NewMaxAspectRatio, q.LayerMaxAspectRatio, -q.LayerMinDihedral };
+  double maxima[6] = { -q.NewMinDihedral, q.NewMaxAspectRatio, q.LayerMaxAspectRatio, -q.LayerMinDihedral,
+    -q.NewMinStep, -q.LayerMinStep };
   vtkARParallel::AllReduceSum(sums, 8);
-  vtkARParallel::AllReduceMax(maxima, 4);
+  vtkARParallel::AllReduceMax(maxima, 6);
   q.NewCells = sums[0];
   q.NewDihedralSum = sums[1];
   q.NonPositiveJacobian = sums[2];
@@ -297,6 +355,8 @@ void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& q)
   q.NewMaxAspectRatio = maxima[1];
   q.LayerMaxAspectRatio = maxima[2];
   q.LayerMinDihedral = -maxima[3];
+  q.NewMinStep = -maxima[4];
+  q.LayerMinStep = -maxima[5];
 }
 
 double vtkEmbeddedRemeshOutputSizeAtSurface(const ar::CavityRemesh& r)
@@ -691,7 +751,18 @@ bool vtkEmbeddedRemeshCavityOptions(
   options.Threads = vtkSMPTools::GetEstimatedNumberOfThreads();
   options.Quality.MaxRadiusEdgeRatio = self->GetMaxRadiusEdgeRatio();
   options.Quality.MinDihedralAngle = self->GetMinDihedralAngle();
-  return vtkEmbeddedRemeshLayerOptions(self, edge, options.Layers, problem);
+  if (!vtkEmbeddedRemeshLayerOptions(self, edge, options.Layers, problem))
+  {
+    return false;
+  }
+  // Without layers the new cells at S should allow the time step of the
+  // requested size: none under half the regular tetrahedron's step at S's
+  // edge (the refill's points at smaller ones are moved). With layers the
+  // layer cells set the step, by design.
+  options.MinStepLength = options.Layers.NumberOfLayers > 0
+    ? 0.0
+    : vtkEmbeddedRemeshMinStepFraction * vtkEmbeddedRemeshIdealStepLength(edge, 0.0, false);
+  return true;
 }
 
 bool vtkEmbeddedRemeshCavityOptions(
@@ -1138,6 +1209,7 @@ void vtkEmbeddedRemeshSummary::Write(vtkUnstructuredGrid* output, const ar::Pris
     field("SeparatorTriangles", this->SeparatorTriangles);
   }
   vtkEmbeddedRemeshAddQualityFields(output, this->Quality);
+  vtkEmbeddedRemeshAddStepFields(output, this->Quality, this->SurfaceEdgeLength, layers, this->TwoDimensional);
   for (const auto& t : this->Seconds)
   {
     field(t.first.c_str(), t.second);

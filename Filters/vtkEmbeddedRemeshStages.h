@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -65,13 +66,21 @@ struct vtkEmbeddedRemeshQuality
   double NewLayerTetrahedra = 0.0; ///< closure tetrahedra,
   double NewLayerHexahedra = 0.0;  ///< hexahedra (2-D mode: the extruded layer quads)
   double NonPositiveJacobian = 0.0; ///< 3-D cells with a corner Jacobian <= 0
+  /// The smallest explicit step length 2V / sum(face areas)
+  /// (ar::CellStepLength) of the new cells (Region 1) and of the new layer
+  /// cells (Region 2); infinite where there are none.
+  double NewMinStep = std::numeric_limits<double>::infinity();
+  double LayerMinStep = std::numeric_limits<double>::infinity();
 };
 
 /// Cell arrays MinDihedralAngle, MaxDihedralAngle (degrees) and AspectRatio
 /// (longest / shortest edge) for every tetrahedron, pyramid, wedge,
 /// hexahedron and voxel of `output` (ar::ComputeCellQuality); -1 for 2-D
-/// cells and polyhedra. `region`: 0 kept, 1 new, per cell.
-vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* output, vtkIntArray* region);
+/// cells and polyhedra. `region`: 0 kept, 1 new, 2 new layer cell, per
+/// cell. `depthAxis`: a one-cell-deep mesh's depth axis (its front and back
+/// faces carry no flux: left out of the step lengths), -1 in 3-D.
+vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(
+  vtkUnstructuredGrid* output, vtkIntArray* region, int depthAxis = -1);
 
 /// The quality part of the field data: MinDihedralAngleNew,
 /// MeanDihedralAngleNew, MaxAspectRatioNew (Region 1), MaxAspectRatioLayerCells,
@@ -81,6 +90,31 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(vtkUnstructuredGrid* 
 /// In 2-D mode the layer cells are hexahedra (the layer quads) and wedges
 /// (the tapered ends' triangles, counted as Prisms).
 void vtkEmbeddedRemeshAddQualityFields(vtkUnstructuredGrid* output, const vtkEmbeddedRemeshQuality& sums);
+
+/// The time-step part of the field data: StepLengthNew and
+/// StepLengthLayerCells (the smallest 2V / sum(face areas) of the new cells
+/// and of the new layer cells; 0 where there are none), and their ratios to
+/// the cell the requested size asks for, StepLengthRatioNew (a regular
+/// tetrahedron of S's edge `edge`; in 2-D an equilateral triangle) and
+/// StepLengthRatioLayerCells (a right prism over that triangle, as high as
+/// the first layer; in 2-D an edge x first-layer rectangle). An explicit
+/// solver's global time step follows the smallest of them: a ratio of 1 is
+/// the step the requested refinement costs, 0.5 half of it.
+void vtkEmbeddedRemeshAddStepFields(vtkUnstructuredGrid* output, const vtkEmbeddedRemeshQuality& sums,
+  double edge, const ar::PrismLayerOptions& layers, bool twoDimensional);
+
+/// The explicit step length (ar::CellStepLength) of the cell the requested
+/// size asks for: `layer` 0, the regular tetrahedron of edge `edge` (2-D:
+/// the equilateral triangle, one cell deep); `layer` > 0, the right prism
+/// over the equilateral triangle of side `edge`, `layer` high (2-D: the
+/// `edge` x `layer` rectangle). 0 where `edge` is not positive.
+double vtkEmbeddedRemeshIdealStepLength(double edge, double layer, bool twoDimensional);
+
+/// The new tetrahedra's smallest step length asked of the 3-D refill, as a
+/// fraction of vtkEmbeddedRemeshIdealStepLength at S's edge
+/// (ar::CavityOptions::MinStepLength): "no smaller than about half the
+/// requested size".
+constexpr double vtkEmbeddedRemeshMinStepFraction = 0.5;
 
 /// Under MPI: the sums, minima and maxima over all ranks, on every rank.
 void vtkEmbeddedRemeshReduceQuality(vtkEmbeddedRemeshQuality& sums);

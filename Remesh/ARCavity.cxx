@@ -422,7 +422,8 @@ bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
     // splits the refill, it is no surface of the output. First, so that a
     // sliver the moves mend does not cost a refill.
     SmoothFreePointsAtSlivers(
-      refill.Mesh, plc.Points.size() / 3 - separatorPoints, SliverAngle(), 4, static_cast<int>(Threads()));
+      refill.Mesh, plc.Points.size() / 3 - separatorPoints, SliverAngle(), 4, static_cast<int>(Threads()),
+      options.MinStepLength);
     // Slivers still there with three kept nodes: grow the cavity there.
     if (attempt == 2 || !GrowAtSlivers())
     {

@@ -107,6 +107,12 @@ struct CavityOptions
   /// separate (ARTetGenPieces.h), side by side. The output is the same with
   /// any number. 0: the hardware's.
   int Threads = 0;
+  /// New tetrahedra whose explicit step length 2V / (sum of face areas)
+  /// (ar::CellStepLength) is below this have their refill points moved as
+  /// slivers' are (SmoothFreePointsAtSlivers' minStep): an explicit solver's
+  /// global time step follows the mesh's smallest cell, so a stray small one
+  /// costs every step. 0: off (the angles alone).
+  double MinStepLength = 0.0;
   /// A cavity of at least this many tetrahedra, refilled without layers, is
   /// cut in two by a strip from S's border to its boundary
   /// (ARCavitySeparator.h; marker 5 in the refill's complex), so that its

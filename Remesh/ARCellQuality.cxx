@@ -227,6 +227,27 @@ double CellVolume(CellShape shape, const double* points)
   return six / 6.0;
 }
 
+double CellStepLength(CellShape shape, const double* points, int skipAxis)
+{
+  double area = 0.0;
+  for (const auto& face : Of(shape).Faces)
+  {
+    const Eigen::Vector3d n = face[3] < 0
+      ? Eigen::Vector3d((X(points, face[1]) - X(points, face[0])).cross(X(points, face[2]) - X(points, face[0])))
+      : Eigen::Vector3d((X(points, face[2]) - X(points, face[0])).cross(X(points, face[3]) - X(points, face[1])));
+    const double a = 0.5 * n.norm();
+    // A face in a plane normal to skipAxis: its normal's other components
+    // vanish (to round-off: under 1e-6 of its length).
+    if (skipAxis >= 0 && skipAxis < 3 && a > 0.0 &&
+      std::hypot(n[(skipAxis + 1) % 3], n[(skipAxis + 2) % 3]) <= 1e-6 * n.norm())
+    {
+      continue;
+    }
+    area += a;
+  }
+  return area > 0.0 ? 2.0 * std::abs(CellVolume(shape, points)) / area : 0.0;
+}
+
 CellQuality ComputeCellQuality(CellShape shape, const double* points, bool scaledJacobian)
 {
   CellQuality q;

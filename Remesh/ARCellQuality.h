@@ -95,6 +95,18 @@ double CellAspectRatio(CellShape shape, const double* points);
 /// quads are not planar.
 double CellVolume(CellShape shape, const double* points);
 
+/// The length an explicit finite-volume scheme's stable time step follows:
+/// 2 V / (sum of the face areas), V as CellVolume measures it and a quad's
+/// area half its diagonals' cross product. OpenFOAM's Courant number is
+/// 0.5 dt sum_f |phi_f| / V with |phi_f| about (|u.n| + a) A_f, so a cell
+/// allows dt up to about Co_max 2V / (sum A_f (|u| + a)): the mesh's smallest
+/// step length sets the global time step. A regular tetrahedron of edge l
+/// has l / (3 sqrt 6) = 0.136 l, a cube of edge h h / 3. `skipAxis` (0, 1,
+/// 2; -1 none): faces whose normal lies along that axis carry no flux and are
+/// left out of the sum (a one-cell-deep mesh's front and back, OpenFOAM's
+/// empty patches): then a square of side h gives h / 2 and an equilateral
+/// triangle of side l l / (2 sqrt 3), its inradius. 0 for a cell without area.
+double CellStepLength(CellShape shape, const double* points, int skipAxis = -1);
 /// All of the above, summarised; without `scaledJacobian` MinScaledJacobian
 /// is not computed (it stays 0), for callers that do not report it.
 CellQuality ComputeCellQuality(CellShape shape, const double* points, bool scaledJacobian = true);

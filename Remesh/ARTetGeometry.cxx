@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARTetGeometry.h"
+#include "ARCellQuality.h"
 #include "ARParallelFor.h"
 
 #include <Eigen/Dense>
@@ -166,30 +167,53 @@ bool HasDihedralBelow(const TetMesh& mesh, std::size_t t, double cosBound)
   return false;
 }
 
-/// The smallest angle over `star` with point `p` at `x`; -1 if a tetrahedron is not positive.
-double StarMinAngle(TetMesh& mesh, const std::vector<std::size_t>& star, std::int64_t p, const double x[3])
+/// Tetrahedron t's explicit step length 2V / (sum of its face areas) (ar::CellStepLength).
+double StepLength(const TetMesh& mesh, std::size_t t)
+{
+  double x[12];
+  for (int k = 0; k < 4; ++k)
+  {
+    std::copy(&mesh.Points[3 * mesh.Tetrahedra[4 * t + k]], &mesh.Points[3 * mesh.Tetrahedra[4 * t + k]] + 3, &x[3 * k]);
+  }
+  return CellStepLength(CellShape::Tetrahedron, x);
+}
+
+/// A star's measures with point `p` at `x`: its smallest dihedral angle and
+/// its smallest score, the angle or, with a step bound, min(angle, minAngle
+/// * step / minStep) (a tetrahedron at half the bound's step scores half the
+/// angle bound); both -1 if a tetrahedron is not positive.
+struct StarMeasure
+{
+  double Angle = 180.0;
+  double Score = 180.0;
+};
+StarMeasure MeasureStar(TetMesh& mesh, const std::vector<std::size_t>& star, std::int64_t p, const double x[3],
+  double minAngle, double minStep)
 {
   double saved[3];
   std::copy(&mesh.Points[3 * p], &mesh.Points[3 * p] + 3, saved);
   std::copy(x, x + 3, &mesh.Points[3 * p]);
-  double m = 180.0;
+  StarMeasure m;
   for (std::size_t t : star)
   {
     const std::int64_t* v = &mesh.Tetrahedra[4 * t];
     if (!(TetSignedVolume(&mesh.Points[3 * v[0]], &mesh.Points[3 * v[1]], &mesh.Points[3 * v[2]],
             &mesh.Points[3 * v[3]]) > 0.0))
     {
-      m = -1.0;
+      m.Angle = m.Score = -1.0;
       break;
     }
-    m = std::min(m, MinDihedral(mesh, t));
+    const double angle = MinDihedral(mesh, t);
+    m.Angle = std::min(m.Angle, angle);
+    m.Score = std::min(m.Score, minStep > 0.0 ? std::min(angle, minAngle * StepLength(mesh, t) / minStep) : angle);
   }
   std::copy(saved, saved + 3, &mesh.Points[3 * p]);
   return m;
 }
-/// Flags the free points (ids >= firstFree) of tetrahedra under minAngle; false if there are none.
-bool MarkSliverPoints(
-  const TetMesh& mesh, std::size_t firstFree, double minAngle, std::size_t threads, std::vector<char>& candidate)
+/// Flags the free points (ids >= firstFree) of tetrahedra under minAngle or
+/// (minStep > 0) under minStep; false if there are none.
+bool MarkSliverPoints(const TetMesh& mesh, std::size_t firstFree, double minAngle, double minStep,
+  std::size_t threads, std::vector<char>& candidate)
 {
   // The thin tetrahedra found on threads (each writes its own flag), their
   // free points flagged after.
@@ -203,7 +227,7 @@ bool MarkSliverPoints(
       {
         const std::int64_t* v = &mesh.Tetrahedra[4 * t];
         thin[t] = std::any_of(v, v + 4, [&](std::int64_t p) { return static_cast<std::size_t>(p) >= firstFree; }) &&
-          HasDihedralBelow(mesh, t, cosBound);
+          (HasDihedralBelow(mesh, t, cosBound) || (minStep > 0.0 && StepLength(mesh, t) < minStep));
       }
     },
     threads, 20000);
@@ -225,12 +249,17 @@ bool MarkSliverPoints(
 }
 
 /// Moves point p to the best of its tries (towards its star's centroid, or
-/// compass steps around it) if that raises its star's smallest angle.
-bool MoveToBestTry(TetMesh& mesh, const std::vector<std::size_t>& star, std::size_t p)
+/// compass steps around it) if that raises its star's smallest score
+/// (MeasureStar) and keeps its smallest angle at least min(its old one,
+/// minAngle).
+bool MoveToBestTry(
+  TetMesh& mesh, const std::vector<std::size_t>& star, std::size_t p, double minAngle, double minStep)
 {
   const std::int64_t id = static_cast<std::int64_t>(p);
   const double x[3] = { mesh.Points[3 * p], mesh.Points[3 * p + 1], mesh.Points[3 * p + 2] };
-  double best = StarMinAngle(mesh, star, id, x);
+  const StarMeasure now = MeasureStar(mesh, star, id, x, minAngle, minStep);
+  double best = now.Score;
+  const double floor = std::min(now.Angle, minAngle);
   // The centroid of the star's other points, and their mean distance from p.
   double c[3] = { 0.0, 0.0, 0.0 };
   double edge = 0.0;
@@ -279,10 +308,10 @@ bool MoveToBestTry(TetMesh& mesh, const std::vector<std::size_t>& star, std::siz
   const std::array<double, 3>* chosen = nullptr;
   for (const auto& y : tries)
   {
-    const double m = StarMinAngle(mesh, star, id, y.data());
-    if (m > best)
+    const StarMeasure m = MeasureStar(mesh, star, id, y.data(), minAngle, minStep);
+    if (m.Score > best && m.Angle >= floor)
     {
-      best = m;
+      best = m.Score;
       chosen = &y;
     }
   }
@@ -294,11 +323,14 @@ bool MoveToBestTry(TetMesh& mesh, const std::vector<std::size_t>& star, std::siz
 }
 }
 
-std::size_t SmoothFreePointsAtSlivers(TetMesh& mesh, std::size_t firstFree, double minAngle, int passes, int threads)
+std::size_t SmoothFreePointsAtSlivers(
+  TetMesh& mesh, std::size_t firstFree, double minAngle, int passes, int threads, double minStep)
 {
   const std::size_t nP = mesh.NumberOfPoints();
   std::vector<char> moved(nP, 0), candidate;
-  for (int pass = 0; pass < passes && MarkSliverPoints(mesh, firstFree, minAngle, static_cast<std::size_t>(std::max(0, threads)), candidate); ++pass)
+  for (int pass = 0; pass < passes &&
+       MarkSliverPoints(mesh, firstFree, minAngle, minStep, static_cast<std::size_t>(std::max(0, threads)), candidate);
+       ++pass)
   {
     // The stars of the flagged points.
     std::vector<std::vector<std::size_t>> star(nP);
@@ -316,7 +348,7 @@ std::size_t SmoothFreePointsAtSlivers(TetMesh& mesh, std::size_t firstFree, doub
     bool improved = false;
     for (std::size_t p = firstFree; p < nP; ++p)
     {
-      if (candidate[p] && MoveToBestTry(mesh, star[p], p))
+      if (candidate[p] && MoveToBestTry(mesh, star[p], p, minAngle, minStep))
       {
         moved[p] = 1;
         improved = true;

@@ -50,8 +50,15 @@ double TotalSignedVolume(const TetMesh& mesh);
 /// perturbation works on a Mesh_3 complex, not on a mesh given as cells.)
 /// The search for the thin tetrahedra runs on `threads` threads (0: the
 /// hardware's; the same result on any number).
+/// `minStep` > 0: tetrahedra whose explicit step length 2V / (sum of face
+/// areas) (ar::CellStepLength) is below it are treated as slivers too (a
+/// small cell sets an explicit solver's global time step): a star is then
+/// scored by min over its tetrahedra of min(angle, minAngle * step /
+/// minStep), a move is kept where it raises the star's score, and no angle
+/// of the star falls below min(its old smallest, minAngle). 0 (the
+/// default): the angles alone, as described above.
 std::size_t SmoothFreePointsAtSlivers(
-  TetMesh& mesh, std::size_t firstFree, double minAngle, int passes = 4, int threads = 1);
+  TetMesh& mesh, std::size_t firstFree, double minAngle, int passes = 4, int threads = 1, double minStep = 0.0);
 
 /// The tetrahedron across each face of `nT` tetrahedra (4 ids each, all
 /// below nV): neighbor[4 t + f] for the face of t opposite its corner f

@@ -5,6 +5,7 @@
 // every refused input; the refill's complex split into pieces
 // (ARTetGenPieces.h) and meshed side by side.
 #include "ARCavity.h"
+#include "ARCellQuality.h"
 #include "ARCavitySeparator.h"
 #include "ARMeshSize.h"
 #include "ARSurfaceRemesh.h"
@@ -956,6 +957,69 @@ TEST(Cavity, SliversAtFreePointsAreSmoothedAway)
   star.Points[3 * 8 + 2] = 0.04;
   EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 9, 10.0), 0u);
   EXPECT_EQ(star.Points[3 * 8 + 2], 0.04);
+}
+
+/// The smallest explicit step length 2V / sum(face areas) of a mesh's tetrahedra.
+double MinStepLength(const ar::TetMesh& mesh)
+{
+  double m = std::numeric_limits<double>::infinity();
+  for (std::size_t t = 0; t < mesh.NumberOfTetrahedra(); ++t)
+  {
+    double x[12];
+    for (int k = 0; k < 4; ++k)
+    {
+      std::copy_n(&mesh.Points[3 * mesh.Tetrahedra[4 * t + k]], 3, &x[3 * k]);
+    }
+    m = std::min(m, ar::CellStepLength(ar::CellShape::Tetrahedron, x));
+  }
+  return m;
+}
+
+// The same star with its free point 0.15 above the bottom face: no sliver
+// (16.7 degrees), but the two tetrahedra on that face are small, step length
+// 2V / sum(A) 0.044 where the point at the centre gives 0.107. Without a
+// step bound nothing moves; with one (0.08) the point moves until no
+// tetrahedron is under it, and no angle falls under the angle bound.
+TEST(Cavity, SmallTetrahedraAtFreePointsAreSmoothedToTheStepBound)
+{
+  ar::TetMesh star;
+  for (int i = 0; i < 8; ++i)
+  {
+    star.Points.insert(star.Points.end(), { double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1) });
+  }
+  star.Points.insert(star.Points.end(), { 0.5, 0.5, 0.15 });
+  const int faces[6][4] = { { 0, 1, 3, 2 }, { 4, 5, 7, 6 }, { 0, 1, 5, 4 }, { 2, 3, 7, 6 }, { 0, 2, 6, 4 },
+    { 1, 3, 7, 5 } };
+  for (const auto& q : faces)
+  {
+    for (const auto& tri : { std::array<int, 3>{ q[0], q[1], q[2] }, std::array<int, 3>{ q[0], q[2], q[3] } })
+    {
+      std::array<std::int64_t, 4> t = { tri[0], tri[1], tri[2], 8 };
+      if (ar::TetSignedVolume(&star.Points[3 * t[0]], &star.Points[3 * t[1]], &star.Points[3 * t[2]],
+            &star.Points[3 * t[3]]) < 0.0)
+      {
+        std::swap(t[0], t[1]);
+      }
+      star.Tetrahedra.insert(star.Tetrahedra.end(), t.begin(), t.end());
+    }
+  }
+  ASSERT_GT(ar::ComputeStatistics(star).MinDihedral, 16.0);
+  ASSERT_NEAR(MinStepLength(star), 0.0443, 1e-4);
+  const std::vector<double> start = star.Points;
+  EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 8, 10.0), 0u) << "no sliver, no step bound";
+  EXPECT_EQ(star.Points, start);
+  EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 8, 10.0, 4, 1, 0.08), 1u);
+  EXPECT_GE(MinStepLength(star), 0.08);
+  const ar::TetMeshStatistics after = ar::ComputeStatistics(star);
+  EXPECT_GE(after.MinDihedral, 10.0);
+  EXPECT_EQ(after.NumberOfNonPositive, 0u);
+  EXPECT_NEAR(after.TotalVolume, 1.0, 1e-12);
+  EXPECT_EQ(std::vector<double>(star.Points.begin(), star.Points.begin() + 24),
+    std::vector<double>(start.begin(), start.begin() + 24));
+  // The corners are not free: nothing can be done.
+  star.Points = start;
+  EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 9, 10.0, 4, 1, 0.08), 0u);
+  EXPECT_EQ(star.Points, start);
 }
 
 // A large cavity's refill cut in two by a strip from S's border to the

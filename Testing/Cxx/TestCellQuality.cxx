@@ -298,3 +298,42 @@ TEST(CellQuality, ExtremeAnglesEqualThePerEdgeOnes)
   }
   EXPECT_GE(flats, 12); // the collapsed tetrahedra, pyramids and prisms
 }
+
+// The explicit step length 2 V / sum(face areas) on cells where both are
+// known exactly, with and without the faces normal to a depth axis.
+TEST(CellQuality, StepLength)
+{
+  // Regular tetrahedron of edge l: V = l^3 / (6 sqrt 2), faces sqrt(3) l^2 in
+  // all: l / (3 sqrt 6).
+  const double l = 0.3;
+  const std::vector<double> tet = { 0, 0, 0, l, 0, 0, l / 2, l * std::sqrt(3.0) / 2, 0, l / 2,
+    l * std::sqrt(3.0) / 6, l * std::sqrt(2.0 / 3.0) };
+  EXPECT_NEAR(ar::CellStepLength(ar::CellShape::Tetrahedron, tet.data()), l / (3.0 * std::sqrt(6.0)), 1e-15);
+  // Cube of side 2: 2 * 8 / 24; without the two faces normal to z (one cell
+  // deep): 2 * 8 / 16, half the side; an axis none of its faces is normal to
+  // changes nothing for the pyramid below.
+  EXPECT_NEAR(ar::CellStepLength(ar::CellShape::Hexahedron, Cube(2.0, -3.0).data()), 2.0 / 3.0, 1e-14);
+  EXPECT_NEAR(ar::CellStepLength(ar::CellShape::Hexahedron, Cube(2.0, -3.0).data(), 2), 1.0, 1e-14);
+  EXPECT_NEAR(ar::CellStepLength(ar::CellShape::Hexahedron, Cube(2.0, -3.0).data(), 0), 1.0, 1e-14);
+  // Right prism over the unit equilateral triangle, height h: V = h sqrt(3)
+  // / 4, faces sqrt(3) / 2 + 3 h. One cell deep along z: the triangle's
+  // inradius, 1 / (2 sqrt 3), whatever h.
+  for (const double h : { 0.05, 1.0, 7.0 })
+  {
+    const std::vector<double> p = RightPrism(h);
+    EXPECT_NEAR(ar::CellStepLength(ar::CellShape::Wedge, p.data()),
+      2.0 * h * std::sqrt(3.0) / 4.0 / (std::sqrt(3.0) / 2.0 + 3.0 * h), 1e-14);
+    EXPECT_NEAR(ar::CellStepLength(ar::CellShape::Wedge, p.data(), 2), 1.0 / (2.0 * std::sqrt(3.0)), 1e-14);
+  }
+  // Square pyramid, base 2 x 2, apex height 3: V = 4, four sides of
+  // 2 * sqrt(1 + 9) / 2 each.
+  const double side = std::sqrt(10.0);
+  EXPECT_NEAR(ar::CellStepLength(ar::CellShape::Pyramid, Pyramid(3.0).data()), 8.0 / (4.0 + 4.0 * side), 1e-14);
+  EXPECT_NEAR(ar::CellStepLength(ar::CellShape::Pyramid, Pyramid(3.0).data(), 0),
+    ar::CellStepLength(ar::CellShape::Pyramid, Pyramid(3.0).data()), 1e-15);
+  // A flat tetrahedron: no volume, step 0; a thin one: its height sets it.
+  const std::vector<double> flat = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0 };
+  EXPECT_EQ(ar::CellStepLength(ar::CellShape::Tetrahedron, flat.data()), 0.0);
+  const std::vector<double> needle = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.3, 0.3, 1e-3 };
+  EXPECT_LT(ar::CellStepLength(ar::CellShape::Tetrahedron, needle.data()), 1e-3);
+}

@@ -22,6 +22,14 @@ filter:
   the field data is then edge / h_S); an explicit SurfaceSizeFactor is used
   as given; with prism layers the automatic factor is 1 (the layers refine
   across S);
+- the new cells allow an explicit solver the time step of the requested
+  size: the smallest step length 2V / (sum of face areas) of the new cells
+  (computed here from the corners, the front and back faces left out in
+  2-D) equals StepLengthNew, StepLengthRatioNew is it over the regular
+  tetrahedron's (2-D: the equilateral triangle's) at S's edge, and that
+  ratio is at least 0.45 ("no smaller than about half the requested size");
+  with prism layers StepLengthLayerCells and StepLengthRatioLayerCells
+  likewise for the layer cells, against the right prism one layer high;
 - SurfaceSizeFactor -1, 11 or NaN is refused with an error naming it, and
   the input passes through unchanged.
 """
@@ -30,7 +38,7 @@ from paraview.simple import *
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 
 import artest
-from artest import VTK_HEXAHEDRON, VTK_TETRA, VTK_WEDGE, check
+from artest import VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_WEDGE, check
 
 artest.load_plugin(globals())
 messages = vtkStringOutputWindow()
@@ -76,6 +84,57 @@ def cell_edges(ds, in_plane_axis=None):
             np.maximum.at(longest, C[:, b], length)
         mean[idx] = total / np.maximum(count, 1)
     return P, centroid, mean, longest
+
+
+FACES = {VTK_TETRA: [(0, 1, 2), (0, 1, 3), (1, 2, 3), (0, 2, 3)],
+         VTK_WEDGE: [(0, 1, 2), (3, 4, 5), (0, 1, 4, 3), (1, 2, 5, 4), (2, 0, 3, 5)],
+         VTK_PYRAMID: [(0, 1, 2, 3), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
+         VTK_HEXAHEDRON: [(0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]}
+
+
+def step_lengths(ds, region, depth_axis=None):
+    """The smallest 2V / (sum of face areas) over the 3-D cells of a Region:
+    V summed over pyramids from the cell's centroid to its faces (a face's
+    area vector: half the sum of its corners' cross products), faces normal
+    to depth_axis left out of the areas."""
+    P = np.asarray(ds.Points, dtype=np.float64)
+    types, cells = artest.cells_of(ds)
+    reg = np.asarray(ds.CellData["Region"])
+    best = np.inf
+    for t, faces in FACES.items():
+        idx, C = artest.by_type(types, cells, t)
+        keep = reg[idx] == region if len(idx) else []
+        if not np.any(keep):
+            continue
+        X = P[C[keep]]
+        centre = X.mean(axis=1)
+        V, A = np.zeros(len(X)), np.zeros(len(X))
+        for f in faces:
+            Y = X[:, list(f)]
+            a = 0.5 * sum(np.cross(Y[:, i], Y[:, (i + 1) % len(f)]) for i in range(len(f)))
+            V += np.abs(np.einsum("ij,ij->i", a, Y.mean(axis=1) - centre)) / 3.0
+            area = np.linalg.norm(a, axis=1)
+            if depth_axis is not None:
+                area = np.where(np.abs(a[:, depth_axis]) > (1 - 1e-9) * area, 0.0, area)
+            A += area
+        best = min(best, (2.0 * V / A).min())
+    return best
+
+
+def check_steps(label, out, depth_axis=None):
+    """StepLengthNew and its ratio against the corners, and the ratio at least 0.45."""
+    f = lambda name: artest.field(out, name)[0]
+    mine = step_lengths(out, 1, depth_axis)
+    edge = f("SurfaceEdgeLength")
+    ideal = edge / (2 * np.sqrt(3)) if depth_axis is not None else edge / (3 * np.sqrt(6))
+    check(abs(f("StepLengthNew") - mine) <= 1e-9 * mine and abs(f("StepLengthRatioNew") - mine / ideal) < 1e-9
+          and f("StepLengthRatioNew") >= 0.45,
+          "%s: the smallest new cell's step length 2V/sum(A) %.3g (here %.3g) is %.2f of the %s at S's edge "
+          "(StepLengthRatioNew; at least 0.45)" % (label, f("StepLengthNew"), mine, f("StepLengthRatioNew"),
+                                                   "equilateral triangle's" if depth_axis is not None
+                                                   else "regular tetrahedron's"))
+    check(f("StepLengthLayerCells") == 0 and f("StepLengthRatioLayerCells") == 0,
+          "%s: no layer cells, no layer step length" % label)
 
 
 def upper_median(values):
@@ -161,6 +220,7 @@ def to_cone(x):
 
 
 out, hS = check_refinement("cone", cone, cfit, to_cone, 3.0)
+check_steps("cone", out)
 check(artest.field(out, "MinDihedralAngleNew")[0] >= 10.0,
       "cone: the new tetrahedra stay above 10 deg (min %.2f)" % artest.field(out, "MinDihedralAngleNew")[0])
 
@@ -173,10 +233,21 @@ _, f = props_run(cone, cfit, SurfaceSizeFactor=0.5)
 check(abs(f("SurfaceEdgeLength") - 0.5 * hS) < 1e-12 * hS and f("SurfaceSizeRatio") < 1.0,
       "cone: SurfaceSizeFactor 0.5 gives S's edge 0.5 h_S (%.5f), SurfaceSizeRatio %.2f"
       % (f("SurfaceEdgeLength"), f("SurfaceSizeRatio")))
-_, f = props_run(cone, cfit, LayerType="Prisms", NumberOfLayers=3)
+layered, f = props_run(cone, cfit, LayerType="Prisms", NumberOfLayers=3)
 check(abs(f("SurfaceSizeFactor") - 1.0) < 1e-12 and f("FirstLayerThicknessUsed") < 0.25 * hS,
       "cone, prism layers: automatic factor 1 along S, first layer %.5f = %.3f h_S across it"
       % (f("FirstLayerThicknessUsed"), f("FirstLayerThicknessUsed") / hS))
+# The layer cells' step against the corners, and against the right prism
+# over the equilateral triangle of S's edge e, one layer t high:
+# 2V / sum(A) = t / (1 + 2 sqrt(3) t / e).
+mine = step_lengths(layered, 2)
+e, t = f("SurfaceEdgeLength"), f("FirstLayerThicknessUsed")
+check(abs(f("StepLengthLayerCells") - mine) <= 1e-6 * mine
+      and abs(f("StepLengthRatioLayerCells") - mine / (t / (1 + 2 * np.sqrt(3) * t / e))) < 1e-6
+      and 0 < f("StepLengthRatioLayerCells") < 1,
+      "cone, prism layers: the smallest layer cell's step length %.3g (here %.3g) is %.2f of a layer's prism "
+      "(StepLengthRatioLayerCells; the stack's closure cells are thinner by design)"
+      % (f("StepLengthLayerCells"), mine, f("StepLengthRatioLayerCells")))
 
 # ---- The OpenFOAM wedge, one cell deep (2-D mode), QuadricFit's plane.
 wedge = XMLUnstructuredGridReader(FileName=[artest.data("wedge15Ma5.vtu")])
@@ -187,6 +258,7 @@ Q = artest.fetch(pfit)
 normal, origin = artest.field(Q, "Normal"), artest.field(Q, "Origin")
 out2, _ = check_refinement("wedge (2-D)", wedge, pfit, lambda x: (x - origin) @ normal, 2.5, depth_axis=2)
 check(artest.field(out2, "TwoDimensional")[0] == 1, "wedge: the 2-D mode ran")
+check_steps("wedge (2-D)", out2, depth_axis=2)
 
 
 # ---- Bad factors: refused by name, the input unchanged.

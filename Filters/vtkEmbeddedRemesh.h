@@ -63,7 +63,15 @@
  * `MinDihedralAngleNew`, `MeanDihedralAngleNew` (of the cells' smallest
  * angles), `MaxAspectRatioNew`, `MaxAspectRatioLayerCells` (the kept
  * non-tetrahedral cells, thin by design), `NonPositiveJacobianCells` (cells
- * with a corner Jacobian <= 0; 0 for a valid mesh), `RelativeVolumeChange`.
+ * with a corner Jacobian <= 0; 0 for a valid mesh), `RelativeVolumeChange`,
+ * and the explicit time step the new cells allow: `StepLengthNew` and
+ * `StepLengthLayerCells` (the smallest 2V / sum of face areas,
+ * ar::CellStepLength, of the new and of the new layer cells; the front and
+ * back faces left out in 2-D), `StepLengthRatioNew` (over the regular
+ * tetrahedron's at S's edge; 2-D: the equilateral triangle's) and
+ * `StepLengthRatioLayerCells` (over the right prism one first layer high).
+ * Without layers the 3-D refill moves its points at tetrahedra under half
+ * the regular tetrahedron's step (ar::CavityOptions::MinStepLength).
  * Output port 1: the embedded surface (the faces of the new mesh that lie on
  * S) as vtkPolyData.
  *

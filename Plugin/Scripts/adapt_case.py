@@ -33,11 +33,14 @@ solver's time step, five-fold again); the OpenFOAM case writer (vtkOpenFOAMCaseW
 with the source as SourceCase, so patch names and types, the fields' boundary
 conditions, constant/ and system/ come from it; controlDict starts at time 0
 (startFrom startTime) and its deltaT is scaled by the ratio of the smallest
-cell's size after and before (V^(1/3), or sqrt of the cross-section area for
-one-cell-deep cases), never raised, so the first step is stable on the new
-smallest cell (adjustTimeStep then takes over where the case uses it). The
-report gives per cycle: nodes and cells by type, the fitted surfaces, the
-size at the shock, the smallest-angle histogram of the new cells, deltaT,
+step length after and before (2V / sum of face areas, the length the
+Courant number divides by; the front and back faces of one-cell-deep cases
+left out), never raised, so the first step is stable on the new smallest
+cell (adjustTimeStep then takes over where the case uses it). The report
+gives per cycle: nodes and cells by type, the fitted surfaces, the size at
+the shock, the new cells' smallest step length against the requested size's
+(StepLengthRatioNew, StepLengthRatioLayerCells), the smallest-angle
+histogram of the new cells, deltaT,
 the shock's position and 10-90 % thickness along lines normal to each fitted
 surface (shock_measure.py) on the input's solution and, with --solve, on the
 adapted mesh's, the solver's wall time and exit status, and pictures of the
@@ -141,23 +144,49 @@ def vtk_points(grid):
     return vtk_to_numpy(grid.GetPoints().GetData())
 
 
-def cell_scale(grid):
-    """The smallest cell's size: V^(1/3), or for a one-cell-deep mesh the
-    square root of the cross-section area (V / depth)."""
-    from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
+FACES = {10: [(0, 1, 2), (0, 1, 3), (1, 2, 3), (0, 2, 3)],
+         13: [(0, 1, 2), (3, 4, 5), (0, 1, 4, 3), (1, 2, 5, 4), (2, 0, 3, 5)],
+         14: [(0, 1, 2, 3), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
+         12: [(0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]}
+
+
+def step_scale(grid):
+    """(the smallest step length 2V / sum of face areas over the 3-D cells,
+    one-cell-deep): the length an explicit solver's Courant number divides
+    by (OpenFOAM: Co = 0.5 dt sum |phi_f| / V), so the stable deltaT scales
+    with it. On a one-cell-deep mesh the front and back faces (normal to the
+    axis on which the points take two values) carry no flux and are left
+    out. V: pyramids from the cell's centroid to its faces."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
-    f = vtkCellSizeFilter()
-    f.SetInputData(grid)
-    f.ComputeVolumeOn()
-    f.Update()
-    v = vtk_to_numpy(f.GetOutput().GetCellData().GetArray("Volume"))
-    v = v[v > 0]
-    P = vtk_to_numpy(grid.GetPoints().GetData())
+    P = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
     depth = [k for k in range(3) if len(np.unique(P[:, k])) == 2]
-    if depth:
-        d = np.ptp(P[:, depth[0]])
-        return float(np.sqrt(v.min() / d)), True
-    return float(v.min() ** (1.0 / 3.0)), False
+    axis = depth[0] if depth else None
+    types = vtk_to_numpy(grid.GetCellTypesArray())
+    conn = vtk_to_numpy(grid.GetCells().GetConnectivityArray())
+    offsets = vtk_to_numpy(grid.GetCells().GetOffsetsArray())
+    best = np.inf
+    for t, faces in FACES.items():
+        idx = np.nonzero(types == t)[0]
+        if len(idx) == 0:
+            continue
+        n = len({k for f in faces for k in f})
+        for chunk in range(0, len(idx), 200000):  # bounded memory on large meshes
+            c = idx[chunk:chunk + 200000]
+            X = P[conn[offsets[c][:, None] + np.arange(n)[None, :]]]
+            centre = X.mean(axis=1)
+            V, A = np.zeros(len(c)), np.zeros(len(c))
+            for f in faces:
+                Y = X[:, list(f)]
+                a = 0.5 * sum(np.cross(Y[:, i], Y[:, (i + 1) % len(f)]) for i in range(len(f)))
+                V += np.abs(np.einsum("ij,ij->i", a, Y.mean(axis=1) - centre)) / 3.0
+                area = np.linalg.norm(a, axis=1)
+                if axis is not None:
+                    area = np.where(np.abs(a[:, axis]) > (1 - 1e-9) * area, 0.0, area)
+                A += area
+            ok = A > 0
+            if np.any(ok):
+                best = min(best, float((2.0 * V[ok] / A[ok]).min()))
+    return best, axis is not None
 
 
 def cell_types(grid):
@@ -563,8 +592,8 @@ def main():
         with open(cd_path) as f:
             cd = f.read()
         with stages("report"):
-            h0, two_d = cell_scale(before)
-            h1, _ = cell_scale(after)
+            h0, two_d = step_scale(before)
+            h1, _ = step_scale(after)
         dt0 = float(dict_entry(cd, "deltaT") or "nan")
         dt1 = dt0 * min(1.0, h1 / h0)
         cd = set_entry(set_entry(set_entry(cd, "startFrom", "startTime"), "startTime", "0"), "deltaT", "%.6g" % dt1)
@@ -582,8 +611,20 @@ def main():
             hist = angle_histogram(after)
         for name in sorted(set(types0) | set(types1)):
             report.append("| %s | %d | %d |" % (name, types0.get(name, 0), types1.get(name, 0)))
-        report += ["| smallest cell size (%s) | %.3g | %.3g |" % ("sqrt of area" if two_d else "V^(1/3)", h0, h1),
+        report += ["| smallest step length 2V/sum(A)%s | %.3g | %.3g |"
+                   % (" (front and back left out)" if two_d else "", h0, h1),
                    "| deltaT | %.3g | %.3g |" % (dt0, dt1), ""]
+        ratio_new, ratio_layers = (fd("StepLengthRatioNew") or [0.0])[0], (fd("StepLengthRatioLayerCells") or [0.0])[0]
+        if ratio_new > 0 or ratio_layers > 0:
+            parts = []
+            if ratio_new > 0:
+                parts.append("the new cells' %.2f of the regular cell's at S's edge (StepLengthRatioNew)" % ratio_new)
+            if ratio_layers > 0:
+                parts.append("the layer cells' %.2f of a prism one layer high (StepLengthRatioLayerCells)"
+                             % ratio_layers)
+            report.append("Smallest step length 2V/sum(A) against the requested size's: %s. An explicit solver's "
+                          "time step follows the mesh's smallest." % "; ".join(parts))
+            report.append("")
         report.append("AdaptToShocks in %.1f s: %d surface(s) (%s); new cells at the shock %.2f of the input's size "
                       "(SurfaceSizeRatio)" % (seconds, len(templates), ", ".join(templates),
                                               (fd("SurfaceSizeRatio") or [float("nan")])[0]))

@@ -107,8 +107,12 @@ if len(sys.argv) > 2 and sys.argv[1] == "--worker":
     w = vtkXMLUnstructuredGridWriter()
     w.SetInputData(er.GetClientSideObject().GetOutputDataObject(0))
     w.SetFileName(path)
-    w.SetDataModeToAppended()
-    w.EncodeAppendedDataOff()
+    # Inline binary (base64, as exact), not appended: with Debian's current
+    # libexpat (2.5.0-1+deb12u5) VTK 9.1's XML reader reads no cells from
+    # appended data beyond a few kilobytes, raw or compressed (a 3^3 cell
+    # block already fails raw, 10^3 zlib). This file's appended raw data had
+    # passed until the StepLength* field arrays lengthened its header.
+    w.SetDataModeToBinary()
     w.SetCompressorTypeToNone()
     w.Write()
     sys.exit(0)

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARTetGeometry.h"
-#include "ARCellQuality.h"
 #include "ARParallelFor.h"
 
 #include <Eigen/Dense>
@@ -137,21 +136,30 @@ double MinDihedral(const TetMesh& mesh, std::size_t t)
 /// angle at an edge is 180 degrees less the angle between the outward
 /// normals of its two faces, so it is below the bound where their dot
 /// product is below -cosBound). A degenerate face counts as 90 degrees, as there.
-bool HasDihedralBelow(const TetMesh& mesh, std::size_t t, double cosBound)
+/// With minStep > 0, also where its step length 2V / (sum of face areas) is
+/// below minStep, from the same face normals.
+bool IsThin(const TetMesh& mesh, std::size_t t, double cosBound, double minStep)
 {
   const std::int64_t* v = &mesh.Tetrahedra[4 * t];
   const Eigen::Vector3d x[4] = { V(&mesh.Points[3 * v[0]]), V(&mesh.Points[3 * v[1]]), V(&mesh.Points[3 * v[2]]),
     V(&mesh.Points[3 * v[3]]) };
   Eigen::Vector3d n[4];
+  double twiceArea = 0.0, sixVolume = 0.0;
   for (int f = 0; f < 4; ++f)
   {
     const Eigen::Vector3d& a = x[(f + 1) % 4];
     Eigen::Vector3d nf = (x[(f + 2) % 4] - a).cross(x[(f + 3) % 4] - a);
-    if (nf.dot(x[f] - a) > 0.0)
+    const double side = nf.dot(x[f] - a);
+    if (side > 0.0)
     {
       nf = -nf;
     }
+    if (f == 0)
+    {
+      sixVolume = std::abs(side);
+    }
     const double len = nf.norm();
+    twiceArea += len;
     n[f] = len > 0.0 ? Eigen::Vector3d(nf / len) : Eigen::Vector3d::Zero();
   }
   for (int k = 0; k < 4; ++k)
@@ -164,18 +172,24 @@ bool HasDihedralBelow(const TetMesh& mesh, std::size_t t, double cosBound)
       }
     }
   }
-  return false;
+  // 2V / sum(A) = (sixVolume / 3) / (twiceArea / 2)
+  return minStep > 0.0 && 2.0 * sixVolume < 3.0 * minStep * twiceArea;
 }
 
-/// Tetrahedron t's explicit step length 2V / (sum of its face areas) (ar::CellStepLength).
+/// Tetrahedron t's explicit step length 2V / (sum of its face areas), as IsThin takes it.
 double StepLength(const TetMesh& mesh, std::size_t t)
 {
-  double x[12];
-  for (int k = 0; k < 4; ++k)
+  const std::int64_t* v = &mesh.Tetrahedra[4 * t];
+  const Eigen::Vector3d x[4] = { V(&mesh.Points[3 * v[0]]), V(&mesh.Points[3 * v[1]]), V(&mesh.Points[3 * v[2]]),
+    V(&mesh.Points[3 * v[3]]) };
+  double twiceArea = 0.0;
+  for (int f = 0; f < 4; ++f)
   {
-    std::copy(&mesh.Points[3 * mesh.Tetrahedra[4 * t + k]], &mesh.Points[3 * mesh.Tetrahedra[4 * t + k]] + 3, &x[3 * k]);
+    const Eigen::Vector3d& a = x[(f + 1) % 4];
+    twiceArea += (x[(f + 2) % 4] - a).cross(x[(f + 3) % 4] - a).norm();
   }
-  return CellStepLength(CellShape::Tetrahedron, x);
+  const double sixVolume = std::abs((x[2] - x[1]).cross(x[3] - x[1]).dot(x[0] - x[1]));
+  return twiceArea > 0.0 ? 2.0 * sixVolume / (3.0 * twiceArea) : 0.0;
 }
 
 /// A star's measures with point `p` at `x`: its smallest dihedral angle and
@@ -211,14 +225,21 @@ StarMeasure MeasureStar(TetMesh& mesh, const std::vector<std::size_t>& star, std
   return m;
 }
 /// Flags the free points (ids >= firstFree) of tetrahedra under minAngle or
-/// (minStep > 0) under minStep; false if there are none.
+/// (minStep > 0) under minStep; false if there are none. `thin` holds each
+/// tetrahedron's state from the pass before: empty, every tetrahedron is
+/// tested; otherwise only those with a point flagged in `moved` (the others'
+/// corners have not moved since, so their state stands).
 bool MarkSliverPoints(const TetMesh& mesh, std::size_t firstFree, double minAngle, double minStep,
-  std::size_t threads, std::vector<char>& candidate)
+  std::size_t threads, const std::vector<char>& moved, std::vector<char>& thin, std::vector<char>& candidate)
 {
   // The thin tetrahedra found on threads (each writes its own flag), their
   // free points flagged after.
   const std::size_t nT = mesh.NumberOfTetrahedra();
-  std::vector<char> thin(nT, 0);
+  const bool all = thin.size() != nT;
+  if (all)
+  {
+    thin.assign(nT, 0);
+  }
   const double cosBound = std::cos(minAngle * M_PI / 180.0);
   ParallelFor(
     nT,
@@ -226,8 +247,12 @@ bool MarkSliverPoints(const TetMesh& mesh, std::size_t firstFree, double minAngl
       for (std::size_t t = first; t < last; ++t)
       {
         const std::int64_t* v = &mesh.Tetrahedra[4 * t];
+        if (!all && std::none_of(v, v + 4, [&](std::int64_t p) { return moved[p] != 0; }))
+        {
+          continue;
+        }
         thin[t] = std::any_of(v, v + 4, [&](std::int64_t p) { return static_cast<std::size_t>(p) >= firstFree; }) &&
-          (HasDihedralBelow(mesh, t, cosBound) || (minStep > 0.0 && StepLength(mesh, t) < minStep));
+          IsThin(mesh, t, cosBound, minStep);
       }
     },
     threads, 20000);
@@ -327,11 +352,13 @@ std::size_t SmoothFreePointsAtSlivers(
   TetMesh& mesh, std::size_t firstFree, double minAngle, int passes, int threads, double minStep)
 {
   const std::size_t nP = mesh.NumberOfPoints();
-  std::vector<char> moved(nP, 0), candidate;
+  std::vector<char> moved(nP, 0), movedLastPass(nP, 0), thin, candidate;
   for (int pass = 0; pass < passes &&
-       MarkSliverPoints(mesh, firstFree, minAngle, minStep, static_cast<std::size_t>(std::max(0, threads)), candidate);
+       MarkSliverPoints(mesh, firstFree, minAngle, minStep, static_cast<std::size_t>(std::max(0, threads)),
+         movedLastPass, thin, candidate);
        ++pass)
   {
+    std::fill(movedLastPass.begin(), movedLastPass.end(), char(0));
     // The stars of the flagged points.
     std::vector<std::vector<std::size_t>> star(nP);
     for (std::size_t t = 0; t < mesh.NumberOfTetrahedra(); ++t)
@@ -351,6 +378,7 @@ std::size_t SmoothFreePointsAtSlivers(
       if (candidate[p] && MoveToBestTry(mesh, star[p], p, minAngle, minStep))
       {
         moved[p] = 1;
+        movedLastPass[p] = 1;
         improved = true;
       }
     }

@@ -1008,6 +1008,8 @@ TEST(Cavity, SmallTetrahedraAtFreePointsAreSmoothedToTheStepBound)
   const std::vector<double> start = star.Points;
   EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 8, 10.0), 0u) << "no sliver, no step bound";
   EXPECT_EQ(star.Points, start);
+  EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 8, 10.0, 4, 1, 0.043), 0u) << "every step above the bound";
+  EXPECT_EQ(star.Points, start);
   EXPECT_EQ(ar::SmoothFreePointsAtSlivers(star, 8, 10.0, 4, 1, 0.08), 1u);
   EXPECT_GE(MinStepLength(star), 0.08);
   const ar::TetMeshStatistics after = ar::ComputeStatistics(star);

@@ -910,20 +910,17 @@ TEST(RefillPieces, SeparateCavitiesAreRefilledSideBySide)
   EXPECT_EQ(Remesh(cube, TiltedPatch()).RefillPieces, 1u);
 }
 
-// A cube's corners (fixed) and one free point joined to its 12 boundary
-// triangles: with the free point 0.04 above the bottom face, the two
-// tetrahedra on that face are slivers. SmoothFreePointsAtSlivers moves the
-// free point (and only it) so that every tetrahedron is above the bound, the
-// volume stays 1 and every tetrahedron positive; a mesh without slivers is
-// left bit for bit.
-TEST(Cavity, SliversAtFreePointsAreSmoothedAway)
+/// A unit cube's corners (ids 0-7, fixed) and one free point (id 8) at
+/// (0.5, 0.5, z), joined to the cube's 12 boundary triangles: 12 positive
+/// tetrahedra, the free point's star.
+ar::TetMesh CubeStar(double z)
 {
   ar::TetMesh star;
   for (int i = 0; i < 8; ++i)
   {
     star.Points.insert(star.Points.end(), { double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1) });
   }
-  star.Points.insert(star.Points.end(), { 0.5, 0.5, 0.04 });
+  star.Points.insert(star.Points.end(), { 0.5, 0.5, z });
   const int faces[6][4] = { { 0, 1, 3, 2 }, { 4, 5, 7, 6 }, { 0, 1, 5, 4 }, { 2, 3, 7, 6 }, { 0, 2, 6, 4 },
     { 1, 3, 7, 5 } };
   for (const auto& q : faces)
@@ -939,6 +936,18 @@ TEST(Cavity, SliversAtFreePointsAreSmoothedAway)
       star.Tetrahedra.insert(star.Tetrahedra.end(), t.begin(), t.end());
     }
   }
+  return star;
+}
+
+// A cube's corners (fixed) and one free point joined to its 12 boundary
+// triangles: with the free point 0.04 above the bottom face, the two
+// tetrahedra on that face are slivers. SmoothFreePointsAtSlivers moves the
+// free point (and only it) so that every tetrahedron is above the bound, the
+// volume stays 1 and every tetrahedron positive; a mesh without slivers is
+// left bit for bit.
+TEST(Cavity, SliversAtFreePointsAreSmoothedAway)
+{
+  ar::TetMesh star = CubeStar(0.04);
   const ar::TetMeshStatistics before = ar::ComputeStatistics(star);
   ASSERT_LT(before.MinDihedral, 5.0);
   const std::vector<double> corners(star.Points.begin(), star.Points.begin() + 24);
@@ -982,27 +991,7 @@ double MinStepLength(const ar::TetMesh& mesh)
 // tetrahedron is under it, and no angle falls under the angle bound.
 TEST(Cavity, SmallTetrahedraAtFreePointsAreSmoothedToTheStepBound)
 {
-  ar::TetMesh star;
-  for (int i = 0; i < 8; ++i)
-  {
-    star.Points.insert(star.Points.end(), { double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1) });
-  }
-  star.Points.insert(star.Points.end(), { 0.5, 0.5, 0.15 });
-  const int faces[6][4] = { { 0, 1, 3, 2 }, { 4, 5, 7, 6 }, { 0, 1, 5, 4 }, { 2, 3, 7, 6 }, { 0, 2, 6, 4 },
-    { 1, 3, 7, 5 } };
-  for (const auto& q : faces)
-  {
-    for (const auto& tri : { std::array<int, 3>{ q[0], q[1], q[2] }, std::array<int, 3>{ q[0], q[2], q[3] } })
-    {
-      std::array<std::int64_t, 4> t = { tri[0], tri[1], tri[2], 8 };
-      if (ar::TetSignedVolume(&star.Points[3 * t[0]], &star.Points[3 * t[1]], &star.Points[3 * t[2]],
-            &star.Points[3 * t[3]]) < 0.0)
-      {
-        std::swap(t[0], t[1]);
-      }
-      star.Tetrahedra.insert(star.Tetrahedra.end(), t.begin(), t.end());
-    }
-  }
+  ar::TetMesh star = CubeStar(0.15);
   ASSERT_GT(ar::ComputeStatistics(star).MinDihedral, 16.0);
   ASSERT_NEAR(MinStepLength(star), 0.0443, 1e-4);
   const std::vector<double> start = star.Points;

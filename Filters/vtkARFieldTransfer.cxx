@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkARFieldTransfer.h"
 #include "vtkARMeshKernels.h"
+#include "vtkARParallel.h"
 
 #include "vtkAbstractArray.h"
 #include "vtkCellArray.h"
@@ -40,6 +41,7 @@ void TransferArray(vtkAbstractArray* from, vtkAbstractArray* to, bool nearest,
   if (to->GetNumberOfTuples() < n)
   {
     to->SetNumberOfTuples(n); // then InsertTuple and InterpolateTuple write in place, safe on threads
+    vtkARParallel::AdviseHugePages(to);
   }
   auto fill = [&](vtkIdType b, vtkIdType e, vtkIdList* ids) {
     for (vtkIdType i = b; i < e; ++i)

@@ -12,6 +12,7 @@
 #ifndef vtkARFieldTransfer_h
 #define vtkARFieldTransfer_h
 
+#include "ARHugePages.h" // for TupleSources
 #include "vtkType.h"
 
 #include <algorithm> // for TupleSources
@@ -45,9 +46,9 @@ public:
 
     TupleSources(vtkIdType n, int width)
       : Width(width)
-      , Ids(static_cast<std::size_t>(n) * width, -1)
-      , Weights(width > 1 ? static_cast<std::size_t>(n) * width : 0, 0.0)
     {
+      ar::AssignHuge(this->Ids, static_cast<std::size_t>(n) * width, vtkIdType(-1));
+      ar::AssignHuge(this->Weights, width > 1 ? static_cast<std::size_t>(n) * width : 0, 0.0);
     }
     vtkIdType Size() const { return static_cast<vtkIdType>(this->Ids.size()) / this->Width; }
     void Copy(vtkIdType i, vtkIdType from) { this->Ids[static_cast<std::size_t>(i) * this->Width] = from; }

@@ -2,6 +2,7 @@
 #include "vtkARMeshKernels.h"
 #include "vtkARInputChecks.h"
 #include "vtkARParallel.h"
+#include "ARHugePages.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkAppendPolyData.h"
@@ -423,6 +424,7 @@ vtkSmartPointer<vtkDoubleArray> vtkARMeshKernels::FieldArray(const char* name, c
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
   a->SetName(name);
   a->SetNumberOfTuples(n);
+  vtkARParallel::AdviseHugePages(a);
   for (int i = 0; i < n; ++i)
   {
     a->SetValue(i, values[i]);
@@ -448,7 +450,7 @@ void vtkARMeshKernels::PointCells(const MeshView& mesh, const std::vector<char>*
     }
   }
   std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-  cells.resize(static_cast<std::size_t>(offsets.back()));
+  ar::ResizeHuge(cells, static_cast<std::size_t>(offsets.back()));
   std::vector<vtkIdType> fill(offsets.begin(), offsets.end() - 1);
   for (vtkIdType c = 0; c < nc; ++c)
   {

@@ -14,6 +14,7 @@
 #ifndef vtkARMeshKernels_h
 #define vtkARMeshKernels_h
 
+#include "ARHugePages.h" // for the large arrays of CellsToPoints
 #include "vtkDataSetAttributes.h" // for vtkDataSetAttributes::DUPLICATECELL
 #include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
@@ -220,7 +221,8 @@ bool vtkARMeshKernels::CellsToPoints(const MeshView& mesh, int nComp, CellFn&& c
   const vtkIdType npts = mesh.NumberOfPoints;
   const vtkIdType ncells = mesh.NumberOfCells;
   const int stride = nComp + 1;
-  std::vector<double> weighted(static_cast<size_t>(ncells) * stride, 0.0);
+  std::vector<double> weighted;
+  ar::AssignHuge(weighted, static_cast<size_t>(ncells) * stride, 0.0);
   std::atomic<bool> aborted(false);
   vtkSMPTools::For(0, ncells, [&](vtkIdType begin, vtkIdType end) {
     if (aborted || Aborted(abortSource))
@@ -258,7 +260,7 @@ bool vtkARMeshKernels::CellsToPoints(const MeshView& mesh, int nComp, CellFn&& c
   }
   std::vector<vtkIdType> start, cells;
   PointCells(mesh, &used, start, cells);
-  out.assign(static_cast<size_t>(npts) * nComp, 0.0);
+  ar::AssignHuge(out, static_cast<size_t>(npts) * nComp, 0.0);
   vtkSMPTools::For(0, npts, [&](vtkIdType begin, vtkIdType end) {
     std::vector<double> sum(stride);
     for (vtkIdType p = begin; p < end; ++p)

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkARParallel.h"
 
+#include "ARHugePages.h"
+
 #include "ARTetGeometry.h"
 
 #include "vtkAppendFilter.h"
@@ -33,6 +35,15 @@
 #include <map>
 #include <numeric>
 #include <string>
+
+void vtkARParallel::AdviseHugePages(vtkAbstractArray* array)
+{
+  if (array && array->GetSize() > 0)
+  {
+    ar::AdviseHugePages(array->GetVoidPointer(0),
+      static_cast<std::size_t>(array->GetSize()) * static_cast<std::size_t>(array->GetDataTypeSize()));
+  }
+}
 
 //------------------------------------------------------------------------------
 int vtkARParallel::NumberOfRanks()
@@ -159,7 +170,8 @@ vtkSmartPointer<vtkPolyData> TetrahedralBoundary(vtkDataSet* domain)
   // (on threads: each cell, face and point writes its own entries; the
   // faces of a bucket are sorted whole, so the result is the same on any
   // number of threads)
-  std::vector<vtkIdType> tets(4 * static_cast<std::size_t>(nCells));
+  std::vector<vtkIdType> tets;
+  ar::ResizeHuge(tets, 4 * static_cast<std::size_t>(nCells));
   std::atomic<bool> bad(false);
   {
     vtkCellArray* cells = grid->GetCells();

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+class vtkAbstractArray;
 class vtkDataSet;
 class vtkFieldData;
 class vtkPolyData;
@@ -26,6 +27,10 @@ class vtkUnstructuredGrid;
 class vtkARParallel
 {
 public:
+  /// ar::AdviseHugePages on the array's allocated memory (ARHugePages.h):
+  /// call it after sizing a large array and before writing it.
+  static void AdviseHugePages(vtkAbstractArray* array);
+
   /// MPI reductions over the global controller (no-ops in serial).
   static void AllReduceMax(double* values, int n);
   static void AllReduceSum(double* values, int n);

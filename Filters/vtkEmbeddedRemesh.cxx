@@ -513,6 +513,8 @@ vtkSmartPointer<vtkUnstructuredGrid> CavityGrid(
   vtkNew<vtkIdTypeArray> offsets, connectivity;
   offsets->SetNumberOfValues(nCavity + 1);
   connectivity->SetNumberOfValues(4 * nCavity);
+  vtkARParallel::AdviseHugePages(offsets);
+  vtkARParallel::AdviseHugePages(connectivity);
   vtkSMPTools::For(0, nCavity, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType c = b; c < e; ++c)
     {
@@ -737,6 +739,7 @@ int vtkEmbeddedRemesh::RemeshVolume(vtkUnstructuredGrid* input,
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(nOut);
+  vtkARParallel::AdviseHugePages(points->GetData());
   for (vtkIdType i = 0; i < nOut; ++i)
   {
     points->SetPoint(i, &result.Mesh.Points[3 * i]);

@@ -6,6 +6,7 @@
 #include "ARCavity.h"
 #include "ARCavity2D.h"
 #include "ARCellQuality.h"
+#include "ARHugePages.h"
 #include "ARMeshSize.h"
 #include "ARPrismLayers.h"
 #include "ARSurfaceRemesh.h"
@@ -180,6 +181,7 @@ vtkEmbeddedRemeshQuality vtkEmbeddedRemeshAddQualityArrays(
   for (vtkDoubleArray* a : { minAngle.Get(), maxAngle.Get(), aspect.Get() })
   {
     a->SetNumberOfTuples(n);
+    vtkARParallel::AdviseHugePages(a);
   }
   // On threads (vtkSMPTools) over fixed blocks of 20000 cells; the sums are
   // combined in block order, so the result depends neither on timing nor on
@@ -790,12 +792,17 @@ void vtkEmbeddedRemeshCells::Reserve(std::size_t cells, std::size_t points)
   const auto n = static_cast<vtkIdType>(cells);
   this->Types->Allocate(n);
   this->Offsets->Allocate(n + 1);
-  this->Offsets->InsertNextValue(0);
   this->Connectivity->Allocate(static_cast<vtkIdType>(points));
-  this->Source.reserve(cells);
   this->RegionArray->Allocate(n);
   this->LayerArray->Allocate(n);
   this->SideArray->Allocate(n);
+  for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{ this->Types, this->Offsets,
+         this->Connectivity, this->RegionArray, this->LayerArray, this->SideArray })
+  {
+    vtkARParallel::AdviseHugePages(a); // before the cells are written
+  }
+  this->Offsets->InsertNextValue(0);
+  ar::ReserveHuge(this->Source, cells);
 }
 
 void vtkEmbeddedRemeshCells::Add(
@@ -890,7 +897,7 @@ void vtkEmbeddedRemeshCells::AddRefillTetrahedra(const ar::CavityRemesh& result,
   // The result's tetrahedra to add, in order; each goes to its fixed place
   // (first + its index), so the threads' schedule changes nothing.
   std::vector<std::size_t> added;
-  added.reserve(result.SourceCell.size());
+  ar::ReserveHuge(added, result.SourceCell.size());
   for (std::size_t t = 0; t < result.SourceCell.size(); ++t)
   {
     const std::int64_t src = result.SourceCell[t];
@@ -903,7 +910,8 @@ void vtkEmbeddedRemeshCells::AddRefillTetrahedra(const ar::CavityRemesh& result,
   const vtkIdType firstPoint = this->Connectivity->GetNumberOfValues();
   const vtkIdType first = this->AppendCells(count, 4 * count);
   this->Source.resize(this->Source.size() + added.size());
-  std::vector<double> volume(points ? added.size() : 0);
+  std::vector<double> volume;
+  ar::ResizeHuge(volume, points ? added.size() : 0);
   const double* X = points ? static_cast<const double*>(points->GetVoidPointer(0)) : nullptr;
   const bool layered = !result.TetrahedronLayer.empty();
   unsigned char* types = this->Types->GetPointer(0);

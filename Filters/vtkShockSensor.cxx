@@ -653,6 +653,7 @@ void vtkShockSensor::PointQuantities(Execution& run, FlowState& st)
   // stream), which would only clutter contours and clusters of NormalMach.
   st.NormalMach->SetName("NormalMach");
   st.NormalMach->SetNumberOfTuples(npts);
+  vtkARParallel::AdviseHugePages(st.NormalMach);
   {
     double* outMn = st.NormalMach->GetPointer(0);
     const double limit = this->PressureGradientThreshold * st.GradMax;
@@ -755,6 +756,7 @@ void vtkShockSensor::MarkShockCells(Execution& run, FlowState& st)
   // ---- Shock cells: Mn = 1 crosses the cell, and the noise filters pass.
   st.ShockCells->SetName("ShockCells");
   st.ShockCells->SetNumberOfTuples(ncells);
+  vtkARParallel::AdviseHugePages(st.ShockCells);
   unsigned char* sc = st.ShockCells->GetPointer(0);
   const double gradLimit = this->PressureGradientThreshold * st.GradMax;
   const bool compressionOnly = this->CompressionOnly;

@@ -2,6 +2,7 @@
 #include "ARCavity.h"
 #include "ARCGALTypes.h"
 #include "ARCavitySeparator.h"
+#include "ARHugePages.h"
 
 #include "ARMeshSize.h"
 #include "ARParallelFor.h"
@@ -1468,6 +1469,21 @@ void CavityRun::Assemble()
       outIndex[v] = 0;
     }
   }
+  // The output's sizes are known here: its arrays are allocated once (no
+  // growth by doubling, which copies and faults in each new buffer).
+  const std::size_t keptPoints = static_cast<std::size_t>(std::count(outIndex.begin(), outIndex.end(), 0));
+  const std::size_t nStack = layers ? stack.Points.size() / 3 : 0;
+  const std::size_t nSteiner =
+    nRefillPoints - std::min(nRefillPoints, static_cast<std::size_t>(nBoundaryNodes) + (layers ? stackOuter.size() : 0));
+  const std::size_t nOutPoints = keptPoints + nStack + nSteiner;
+  const std::size_t keptTets =
+    nT - static_cast<std::size_t>(std::count_if(cavity.begin(), cavity.end(), [](char c) { return c != 0; }));
+  const std::size_t nOutTets =
+    keptTets + refill.Mesh.NumberOfTetrahedra() + (layers ? stack.Tetrahedra.size() / 4 : 0);
+  ReserveHuge(out.SourcePoint, nOutPoints);
+  ReserveHuge(out.Mesh.Points, 3 * nOutPoints);
+  ReserveHuge(out.Mesh.Tetrahedra, 4 * nOutTets);
+  ReserveHuge(out.SourceCell, nOutTets);
   for (std::size_t v = 0; v < nV; ++v)
   {
     if (outIndex[v] == 0)

@@ -2,6 +2,7 @@
 #include "ARTetGen.h"
 #include "ARCGALTypes.h"
 
+#include "ARHugePages.h"
 #include "ARTetGeometry.h"
 
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -358,37 +359,60 @@ bool MeshComplexHere(const PiecewiseLinearComplex& plc, const TetGenOptions& opt
 // crash while cleaning up after an error (seen with two facets 1e-11 apart:
 // a segfault in tetgenmesh::freememory after terminatetetgen), which would
 // take ParaView down with it. The child sends the result through a pipe.
-template <typename T>
-void Put(std::vector<char>& buffer, const std::vector<T>& v)
+/// Writes all `bytes` to `fd` (a pipe); false if the reader went away.
+bool WriteAll(int fd, const void* data, std::size_t bytes)
 {
-  const std::uint64_t n = v.size();
-  const char* p = reinterpret_cast<const char*>(&n);
-  buffer.insert(buffer.end(), p, p + sizeof(n));
-  p = reinterpret_cast<const char*>(v.data());
-  buffer.insert(buffer.end(), p, p + n * sizeof(T));
+  const char* p = static_cast<const char*>(data);
+  while (bytes > 0)
+  {
+    const ssize_t w = write(fd, p, bytes);
+    if (w <= 0)
+    {
+      return false;
+    }
+    p += w;
+    bytes -= static_cast<std::size_t>(w);
+  }
+  return true;
 }
 
+/// Reads exactly `bytes` from `fd`; false at an early end of the stream.
+bool ReadAll(int fd, void* data, std::size_t bytes)
+{
+  char* p = static_cast<char*>(data);
+  while (bytes > 0)
+  {
+    const ssize_t r = read(fd, p, bytes);
+    if (r <= 0)
+    {
+      return false;
+    }
+    p += r;
+    bytes -= static_cast<std::size_t>(r);
+  }
+  return true;
+}
+
+/// An array on the pipe: its length, then its values, straight from the
+/// array (no staging buffer: the result is hundreds of MB at 5e6).
+template <typename V>
+bool Put(int fd, const V& v)
+{
+  const std::uint64_t n = v.size();
+  return WriteAll(fd, &n, sizeof(n)) && WriteAll(fd, v.data(), n * sizeof(typename V::value_type));
+}
+
+/// Reads an array Put wrote straight into `v`, allocated once at its size.
 template <typename T>
-bool Get(const std::vector<char>& buffer, std::size_t& at, std::vector<T>& v)
+bool Get(int fd, std::vector<T>& v)
 {
   std::uint64_t n = 0;
-  if (at + sizeof(n) > buffer.size())
+  if (!ReadAll(fd, &n, sizeof(n)) || n > (std::uint64_t(1) << 40) / sizeof(T))
   {
     return false;
   }
-  std::memcpy(&n, buffer.data() + at, sizeof(n));
-  at += sizeof(n);
-  if (at + n * sizeof(T) > buffer.size())
-  {
-    return false;
-  }
-  v.resize(n);
-  if (n > 0) // an empty vector's data() may be null, and memcpy's pointers must not be
-  {
-    std::memcpy(v.data(), buffer.data() + at, n * sizeof(T));
-  }
-  at += n * sizeof(T);
-  return true;
+  ResizeHuge(v, static_cast<std::size_t>(n));
+  return ReadAll(fd, v.data(), static_cast<std::size_t>(n) * sizeof(T));
 }
 }
 
@@ -434,59 +458,44 @@ bool TetGenMeshComplex(const PiecewiseLinearComplex& plc, const TetGenOptions& o
     TetGenResult result;
     std::string message;
     const bool ok = MeshComplexHere(plc, options, result, message);
-    std::vector<char> buffer;
-    buffer.push_back(ok ? 1 : 0);
-    Put(buffer, std::vector<char>(message.begin(), message.end()));
-    Put(buffer, result.Mesh.Points);
-    Put(buffer, result.Mesh.Tetrahedra);
-    Put(buffer, result.Faces);
-    Put(buffer, result.FaceMarkers);
-    std::size_t sent = 0;
-    while (sent < buffer.size())
-    {
-      const ssize_t w = write(fds[1], buffer.data() + sent, buffer.size() - sent);
-      if (w <= 0)
-      {
-        _exit(2);
-      }
-      sent += static_cast<std::size_t>(w);
-    }
+    const char status = ok ? 1 : 0;
+    const bool sent = WriteAll(fds[1], &status, 1) && Put(fds[1], message) && Put(fds[1], result.Mesh.Points) &&
+      Put(fds[1], result.Mesh.Tetrahedra) && Put(fds[1], result.Faces) && Put(fds[1], result.FaceMarkers);
     close(fds[1]);
-    _exit(0);
+    _exit(sent ? 0 : 2);
   }
   close(fds[1]);
   forking.unlock();
-  std::vector<char> buffer;
-  char chunk[1 << 16];
-  for (;;)
+  char status = 0;
+  std::vector<char> message;
+  const bool received = ReadAll(fds[0], &status, 1) && Get(fds[0], message) && Get(fds[0], out.Mesh.Points) &&
+    Get(fds[0], out.Mesh.Tetrahedra) && Get(fds[0], out.Faces) && Get(fds[0], out.FaceMarkers);
+  if (!received)
   {
-    const ssize_t r = read(fds[0], chunk, sizeof(chunk));
-    if (r <= 0)
+    // The child's writes must not end in SIGPIPE (reported as a crash):
+    // read what is left.
+    char chunk[1 << 16];
+    while (read(fds[0], chunk, sizeof(chunk)) > 0)
     {
-      break;
     }
-    buffer.insert(buffer.end(), chunk, chunk + r);
   }
   close(fds[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (WIFSIGNALED(status))
+  int exitStatus = 0;
+  waitpid(pid, &exitStatus, 0);
+  if (WIFSIGNALED(exitStatus))
   {
-    error = "TetGen crashed (signal " + std::to_string(WTERMSIG(status)) +
+    error = "TetGen crashed (signal " + std::to_string(WTERMSIG(exitStatus)) +
       ") on this input; the surfaces are probably too close to each other or to the kept mesh.";
-    return false;
-  }
-  std::size_t at = 1;
-  std::vector<char> message;
-  if (buffer.empty() || !Get(buffer, at, message) || !Get(buffer, at, out.Mesh.Points) ||
-    !Get(buffer, at, out.Mesh.Tetrahedra) || !Get(buffer, at, out.Faces) ||
-    !Get(buffer, at, out.FaceMarkers))
-  {
-    error = "TetGen's process ended without a result (exit status " + std::to_string(status) + ").";
     out = TetGenResult();
     return false;
   }
-  if (!buffer[0])
+  if (!received)
+  {
+    error = "TetGen's process ended without a result (exit status " + std::to_string(exitStatus) + ").";
+    out = TetGenResult();
+    return false;
+  }
+  if (!status)
   {
     error.assign(message.begin(), message.end());
     out = TetGenResult();

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARTetGenPieces.h"
+#include "ARHugePages.h"
 
 #include "ARUnionFind.h"
 
@@ -444,8 +445,21 @@ void Merge(const PiecewiseLinearComplex& plc, const std::vector<ComplexPiece>& p
   std::vector<TetGenResult>& results, TetGenResult& out)
 {
   out = TetGenResult();
+  // Every array at its final size at once (no growth by doubling).
+  std::size_t nPoints = plc.Points.size() / 3, nTets = 0, nFaces = 0;
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+  {
+    nPoints += results[p].Mesh.NumberOfPoints() - std::min(results[p].Mesh.NumberOfPoints(), pieces[p].Points.size());
+    nTets += results[p].Mesh.NumberOfTetrahedra();
+    nFaces += results[p].FaceMarkers.size();
+  }
+  ReserveHuge(out.Mesh.Points, 3 * nPoints);
   out.Mesh.Points = plc.Points;
+  ReserveHuge(out.Mesh.Tetrahedra, 4 * nTets);
+  ReserveHuge(out.Faces, 3 * nFaces);
+  out.FaceMarkers.reserve(nFaces);
   std::vector<std::array<std::int64_t, 4>> faces; // sorted ids, then the order found
+  faces.reserve(nFaces);
   for (std::size_t p = 0; p < pieces.size(); ++p)
   {
     TetGenResult& r = results[p];

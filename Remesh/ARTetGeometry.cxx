@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ARTetGeometry.h"
 #include "ARParallelFor.h"
+#include "ARHugePages.h"
 
 #include <Eigen/Dense>
 
@@ -455,6 +456,7 @@ bool MatchFaces(const std::int64_t* tets, std::size_t nT, std::size_t nV, std::v
   }
   // Filled before read, so not value-initialized (every slot is written once).
   std::unique_ptr<Face[]> faces(new Face[4 * nT]);
+  AdviseHugePages(faces.get(), 4 * nT * sizeof(Face));
   ParallelFor(
     nT,
     [&](std::size_t first, std::size_t last) {
@@ -475,7 +477,7 @@ bool MatchFaces(const std::int64_t* tets, std::size_t nT, std::size_t nV, std::v
       }
     },
     threads, grain);
-  neighbor.assign(4 * nT, -1);
+  AssignHuge(neighbor, 4 * nT, std::int64_t(-1));
   // Each bucket sorted by the other two ids; a face's entries are then
   // adjacent and each bucket writes its own faces' entries. Where a face is
   // in three tetrahedra or more, the lowest such bucket is reported, on any

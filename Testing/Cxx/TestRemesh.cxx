@@ -1,14 +1,20 @@
 // Unit tests of the VTK-free meshing core: exact answers only.
 #include "ARDelaunay.h"
+#include "ARHugePages.h"
 #include "ARTetGen.h"
 #include "ARTetGeometry.h"
 #include "ARTestMeshes.h"
 
 #include <gtest/gtest.h>
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <sstream>
 #include <limits>
 #include <random>
 #include <string>
@@ -251,4 +257,98 @@ TEST(TetGen, SelfIntersectingSurfaceIsCaught)
   EXPECT_FALSE(ar::TetGenTetrahedralizeSurface(
     xyz.data(), 16, tri.data(), 24, ar::TetGenOptions(), mesh, error));
   EXPECT_NE(error.find("intersects itself"), std::string::npos) << error;
+}
+
+TEST(TetGen, LargeResultComesBackWhole)
+{
+  // About 10 MB of tetrahedra: the child process's result crosses the pipe
+  // in many reads, straight into arrays allocated at their size.
+  ar::TetGenOptions options;
+  options.MaxVolume = 8e-6;
+  options.PreserveSurface = false;
+  ar::TetMesh mesh;
+  std::string error;
+  ASSERT_TRUE(ar::TetGenTetrahedralizeSurface(
+    &CubePoints[0][0], 8, &CubeTriangles[0][0], 12, options, mesh, error))
+    << error;
+  EXPECT_GT(mesh.Tetrahedra.size() * sizeof(std::int64_t), std::size_t(8) << 20);
+  const ar::TetMeshStatistics s = ar::ComputeStatistics(mesh);
+  EXPECT_NEAR(s.TotalVolume, 1.0, 1e-11);
+  EXPECT_EQ(s.NumberOfNonPositive, 0u);
+  for (std::int64_t v : mesh.Tetrahedra)
+  {
+    ASSERT_TRUE(v >= 0 && static_cast<std::size_t>(v) < mesh.NumberOfPoints());
+  }
+}
+
+namespace
+{
+/// The VmFlags of the mapping of this process that holds `address`
+/// (/proc/self/smaps), or "" if none does.
+std::string MappingFlags(const void* address)
+{
+  const auto a = reinterpret_cast<std::uintptr_t>(address);
+  std::ifstream smaps("/proc/self/smaps");
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line))
+  {
+    std::uintptr_t first = 0, last = 0;
+    char dash = 0;
+    std::istringstream header(line);
+    if (header >> std::hex >> first >> dash >> last && dash == '-')
+    {
+      inside = a >= first && a < last;
+    }
+    else if (inside && line.compare(0, 8, "VmFlags:") == 0)
+    {
+      return line.substr(8) + " ";
+    }
+  }
+  return "";
+}
+}
+
+TEST(HugePages, WholeHugePagesOfALargeRangeAreMarked)
+{
+  constexpr std::size_t mb = std::size_t(1) << 20;
+  // Mappings of our own, so that each is its own VMA: 3 MB is too small to
+  // mark, of 9 MB starting 1 MB past a 2 MB boundary the 8 MB of whole huge
+  // pages are marked ("hg") and the first MB is not.
+  void* small = mmap(nullptr, 3 * mb, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  void* big = mmap(nullptr, 12 * mb, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  ASSERT_NE(small, MAP_FAILED);
+  ASSERT_NE(big, MAP_FAILED);
+  const std::uintptr_t aligned = (reinterpret_cast<std::uintptr_t>(big) + 2 * mb - 1) & ~(2 * mb - 1);
+  char* start = reinterpret_cast<char*>(aligned) + mb;
+  ASSERT_TRUE(start + 9 * mb <= static_cast<char*>(big) + 12 * mb);
+  EXPECT_EQ(MappingFlags(small).find(" hg "), std::string::npos);
+  ar::AdviseHugePages(small, 3 * mb);
+  ar::AdviseHugePages(start, 9 * mb);
+  EXPECT_EQ(MappingFlags(small).find(" hg "), std::string::npos) << MappingFlags(small);
+  EXPECT_EQ(MappingFlags(start).find(" hg "), std::string::npos) << MappingFlags(start);
+  EXPECT_NE(MappingFlags(start + mb).find(" hg "), std::string::npos) << MappingFlags(start + mb);
+  EXPECT_NE(MappingFlags(start + 9 * mb - 1).find(" hg "), std::string::npos);
+  EXPECT_EQ(MappingFlags(start + 9 * mb).find(" hg "), std::string::npos);
+  munmap(small, 3 * mb);
+  munmap(big, 12 * mb);
+
+  // The vector helpers: the values as reserve, resize and assign give them.
+  std::vector<double> v{ 1.0, 2.0, 3.0 };
+  const std::size_t n = 3 * mb / sizeof(double) * 2; // 6 MB
+  ar::ReserveHuge(v, n);
+  EXPECT_GE(v.capacity(), n);
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_EQ(v[2], 3.0);
+  ar::ResizeHuge(v, n);
+  ASSERT_EQ(v.size(), n);
+  EXPECT_EQ(v[0], 1.0);
+  EXPECT_EQ(v[1], 2.0);
+  EXPECT_EQ(std::count(v.begin() + 3, v.end(), 0.0), static_cast<std::ptrdiff_t>(n - 3));
+  std::vector<std::int64_t> w{ 5, 6 };
+  ar::AssignHuge(w, n, std::int64_t(-1));
+  ASSERT_EQ(w.size(), n);
+  EXPECT_EQ(std::count(w.begin(), w.end(), std::int64_t(-1)), static_cast<std::ptrdiff_t>(n));
+  ar::AssignHuge(w, 4, std::int64_t(9)); // smaller: in place
+  EXPECT_EQ(w, std::vector<std::int64_t>(4, 9));
 }

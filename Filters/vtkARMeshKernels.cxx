@@ -424,7 +424,6 @@ vtkSmartPointer<vtkDoubleArray> vtkARMeshKernels::FieldArray(const char* name, c
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
   a->SetName(name);
   a->SetNumberOfTuples(n);
-  vtkARParallel::AdviseHugePages(a);
   for (int i = 0; i < n; ++i)
   {
     a->SetValue(i, values[i]);

@@ -1473,9 +1473,10 @@ void CavityRun::Assemble()
   // growth by doubling, which copies and faults in each new buffer).
   const std::size_t keptPoints = static_cast<std::size_t>(std::count(outIndex.begin(), outIndex.end(), 0));
   const std::size_t nStack = layers ? stack.Points.size() / 3 : 0;
-  const std::size_t nSteiner =
-    nRefillPoints - std::min(nRefillPoints, static_cast<std::size_t>(nBoundaryNodes) + (layers ? stackOuter.size() : 0));
-  const std::size_t nOutPoints = keptPoints + nStack + nSteiner;
+  // TetGen's own points come after the complex's boundary nodes and the
+  // stack's outer nodes.
+  const std::size_t firstSteiner = static_cast<std::size_t>(nBoundaryNodes) + (layers ? stackOuter.size() : 0);
+  const std::size_t nOutPoints = keptPoints + nStack + (nRefillPoints - std::min(nRefillPoints, firstSteiner));
   const std::size_t keptTets =
     nT - static_cast<std::size_t>(std::count_if(cavity.begin(), cavity.end(), [](char c) { return c != 0; }));
   const std::size_t nOutTets =
@@ -1510,7 +1511,6 @@ void CavityRun::Assemble()
       refillIndex[plcIndex[v]] = outIndex[v];
     }
   }
-  std::size_t firstSteiner = static_cast<std::size_t>(nBoundaryNodes);
   std::int64_t stackOffset = 0;
   if (layers)
   {
@@ -1522,7 +1522,6 @@ void CavityRun::Assemble()
     {
       refillIndex[nBoundaryNodes + j] = stackOffset + stackOuter[j];
     }
-    firstSteiner += stackOuter.size();
   }
   for (std::size_t k = firstSteiner; k < nRefillPoints; ++k)
   {

@@ -289,6 +289,35 @@ TEST(Cavity, RefusesBadInput)
   EXPECT_TRUE(e.find("intersects itself") != std::string::npos || e.find("TetGen") != std::string::npos) << e;
 }
 
+TEST(Cavity, FindsASelfIntersectionWhereverItIs)
+{
+  // S's self-intersection test runs in two halves cut across S's longest
+  // axis (triangles straddling the cut in both): a crossing near either end
+  // and one on the cut are all found, on one thread and on two.
+  const ar::TetMesh cube = KuhnCube(8);
+  const Surface plane = Grid(40, 16, 0.1, 0.9, 0.3, 0.7, [](double u, double v) {
+    return std::array<double, 3>{ u, v, 0.5 };
+  });
+  for (const double x0 : { 0.2, 0.5, 0.8 })
+  {
+    Surface crossing = plane;
+    const Surface fin = Grid(4, 6, x0 - 0.04, x0 + 0.04, 0.4, 0.6, [](double u, double w) {
+      return std::array<double, 3>{ u, 0.5 + 0.05 * (u - 0.5), w };
+    });
+    const auto offset = static_cast<std::int64_t>(crossing.Points.size() / 3);
+    crossing.Points.insert(crossing.Points.end(), fin.Points.begin(), fin.Points.end());
+    for (std::int64_t id : fin.Triangles)
+      crossing.Triangles.push_back(id + offset);
+    for (const int threads : { 1, 2 })
+    {
+      ar::CavityOptions o;
+      o.Threads = threads;
+      EXPECT_NE(Refusal(cube, crossing, o).find("the feature surface intersects itself"), std::string::npos)
+        << "a crossing at x = " << x0 << " on " << threads << " thread(s)";
+    }
+  }
+}
+
 TEST(Cavity, FullDomainRemeshesEverythingAndKeepsTheBoundary)
 {
   const ar::TetMesh cube = KuhnCube(8);

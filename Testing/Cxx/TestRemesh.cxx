@@ -1,4 +1,5 @@
 // Unit tests of the VTK-free meshing core: exact answers only.
+#include "ARCGALTypes.h"
 #include "ARDelaunay.h"
 #include "ARHugePages.h"
 #include "ARTetGen.h"
@@ -351,4 +352,73 @@ TEST(HugePages, WholeHugePagesOfALargeRangeAreMarked)
   EXPECT_EQ(std::count(w.begin(), w.end(), std::int64_t(-1)), static_cast<std::ptrdiff_t>(n));
   ar::AssignHuge(w, 4, std::int64_t(9)); // smaller: in place
   EXPECT_EQ(w, std::vector<std::int64_t>(4, 9));
+}
+
+namespace
+{
+/// The triangles of an nx x ny grid of squares, each cut along a diagonal.
+ar::cgal::Soup GridSoup(std::size_t nx, std::size_t ny)
+{
+  ar::cgal::Soup soup;
+  for (std::size_t j = 0; j < ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i)
+    {
+      const std::size_t a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
+      soup.push_back({ a, b, d });
+      soup.push_back({ a, d, c });
+    }
+  return soup;
+}
+}
+
+TEST(SoupToMesh, AgreesWithCGALOnWhatIsAPolygonMesh)
+{
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  const ar::cgal::Soup octahedron = { { 0, 2, 4 }, { 2, 1, 4 }, { 1, 3, 4 }, { 3, 0, 4 }, { 2, 0, 5 }, { 1, 2, 5 },
+    { 3, 1, 5 }, { 0, 3, 5 } };
+  std::vector<std::pair<std::string, ar::cgal::Soup>> cases;
+  cases.push_back({ "a closed octahedron", octahedron });
+  cases.push_back({ "an open grid", GridSoup(6, 4) });
+  ar::cgal::Soup flipped = octahedron;
+  std::swap(flipped[3][0], flipped[3][1]);
+  cases.push_back({ "an octahedron with one triangle flipped", flipped });
+  cases.push_back({ "three triangles on one edge", { { 0, 1, 2 }, { 1, 0, 3 }, { 0, 1, 4 } } });
+  cases.push_back({ "two triangles meeting at a vertex only", { { 0, 1, 2 }, { 0, 3, 4 } } });
+  ar::cgal::Soup twice = octahedron;
+  for (const auto& t : octahedron)
+    twice.push_back({ t[0] == 0 ? 0 : t[0] + 5, t[1] == 0 ? 0 : t[1] + 5, t[2] == 0 ? 0 : t[2] + 5 });
+  cases.push_back({ "two octahedra sharing a vertex", twice });
+  cases.push_back({ "a triangle with a repeated corner", { { 0, 1, 1 }, { 1, 0, 2 } } });
+  cases.push_back({ "a triangle twice", { { 0, 1, 2 }, { 0, 1, 2 } } });
+  cases.push_back({ "a closed fan and an open one at a vertex",
+    { { 0, 1, 2 }, { 0, 2, 3 }, { 0, 3, 1 }, { 0, 4, 5 }, { 0, 5, 6 } } });
+  for (const auto& c : cases)
+  {
+    EXPECT_EQ(ar::cgal::IsTriangleSoupAMesh(c.second), PMP::is_polygon_soup_a_polygon_mesh(c.second)) << c.first;
+  }
+  EXPECT_TRUE(ar::cgal::IsTriangleSoupAMesh(octahedron));
+  EXPECT_FALSE(ar::cgal::IsTriangleSoupAMesh(twice));
+  // Random pieces of a grid, some triangles flipped: holes make vertices
+  // where two fans meet, flips make edges used twice in one direction.
+  std::mt19937 random(7);
+  const ar::cgal::Soup grid = GridSoup(8, 8);
+  int meshes = 0, soups = 0;
+  for (int trial = 0; trial < 400; ++trial)
+  {
+    ar::cgal::Soup piece;
+    const unsigned drop = 1 + trial % 40, flip = trial % 3 == 0 ? 100 : 100000; // in 1000
+    for (auto t : grid)
+    {
+      if (random() % 1000 < drop)
+        continue;
+      if (random() % flip == 0)
+        std::swap(t[0], t[1]);
+      piece.push_back(t);
+    }
+    const bool expected = PMP::is_polygon_soup_a_polygon_mesh(piece);
+    ASSERT_EQ(ar::cgal::IsTriangleSoupAMesh(piece), expected) << "trial " << trial;
+    (expected ? meshes : soups) += 1;
+  }
+  EXPECT_GT(meshes, 10);
+  EXPECT_GT(soups, 10);
 }

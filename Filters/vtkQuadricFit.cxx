@@ -192,9 +192,9 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
         const vtkIdType first = line * perLine, last = std::min(m, (line + 1) * perLine) - 1;
         const double* p0 = &points[3 * first];
         const double* p1 = &points[3 * last];
-        const double* mid = &points[3 * (line * perLine + perLine / 2)];
-        const double* end = &points[3 * (line * perLine + perLine - 1)];
-        const double r = 2.0 * std::sqrt(vtkMath::Distance2BetweenPoints(mid, end)) / reach;
+        const double* mid = &points[3 * (first + (last - first) / 2)];
+        // (widened by 1e-9: the samples lie on the segment up to round-off)
+        const double r = (1.0 + 1e-9) * 2.0 * std::sqrt(vtkMath::Distance2BetweenPoints(mid, p1)) / reach;
         double c[3], d[3];
         for (int a = 0; a < 3; ++a)
         {
@@ -202,7 +202,7 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
           d[a] = p1[a] - p0[a];
         }
         const double dd = vtkMath::Dot(d, d);
-        nodes->FindPointsWithinRadius(r + 0.5 * std::sqrt(dd), c, found);
+        nodes->FindPointsWithinRadius((1.0 + 1e-9) * (r + 0.5 * std::sqrt(dd)), c, found);
         for (vtkIdType k = 0; k < found->GetNumberOfIds(); ++k)
         {
           const vtkIdType id = found->GetId(k);

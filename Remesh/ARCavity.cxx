@@ -829,7 +829,6 @@ bool CavityRun::TrimSurface()
 bool CavityRun::CheckSelfIntersection()
 {
   {
-    namespace PMP = CGAL::Polygon_mesh_processing;
     std::vector<Point> pts;
     for (std::size_t i = 0; i < sSize.size(); ++i)
     {
@@ -846,72 +845,8 @@ bool CavityRun::CheckSelfIntersection()
     cgal::Mesh mesh;
     if (cgal::SoupToMesh(pts, faces, mesh))
     {
-      // In two halves side by side (CGAL's parallel test needs TBB): cut
-      // at the median of the triangles' centres along the longest axis, L
-      // the triangles whose box reaches below the cut, R those whose box
-      // reaches to it or above (a straddler is in both). Two triangles that
-      // meet have boxes that overlap, and the overlap lies below the cut
-      // (both in L) or at or above it (both in R), so the two tests find
-      // every intersection the whole one does; the answer is the same on
-      // any number of threads. (1.9 s -> about 1 s on the 5e6 cube's S of
-      // 206,109 triangles.)
-      std::vector<cgal::Mesh::Face_index> all(mesh.faces().begin(), mesh.faces().end());
-      std::vector<std::array<double, 2>> span(all.size()); // per face: its box along the axis
-      CGAL::Bbox_3 box;
-      for (const Point& x : pts)
-      {
-        box += x.bbox();
-      }
-      int axis = 0;
-      for (int a = 1; a < 3; ++a)
-      {
-        if (box.max(a) - box.min(a) > box.max(axis) - box.min(axis))
-        {
-          axis = a;
-        }
-      }
-      std::vector<double> centre(all.size());
-      for (std::size_t f = 0; f < all.size(); ++f)
-      {
-        double lo = std::numeric_limits<double>::max(), hi = -lo;
-        for (const cgal::Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(all[f]), mesh))
-        {
-          const double c = CGAL::to_double(mesh.point(v)[axis]);
-          lo = std::min(lo, c);
-          hi = std::max(hi, c);
-        }
-        span[f] = { lo, hi };
-        centre[f] = 0.5 * (lo + hi);
-      }
-      std::vector<std::vector<cgal::Mesh::Face_index>> halves(2);
-      if (!centre.empty())
-      {
-        std::vector<double> sorted = centre;
-        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-        const double cut = sorted[sorted.size() / 2];
-        for (std::size_t f = 0; f < all.size(); ++f)
-        {
-          if (span[f][0] < cut)
-          {
-            halves[0].push_back(all[f]);
-          }
-          if (span[f][1] >= cut)
-          {
-            halves[1].push_back(all[f]);
-          }
-        }
-      }
-      char crossing[2] = { 0, 0 };
-      ParallelFor(
-        2,
-        [&](std::size_t first, std::size_t last) {
-          for (std::size_t k = first; k < last; ++k)
-          {
-            crossing[k] = PMP::does_self_intersect(halves[k], mesh) ? 1 : 0;
-          }
-        },
-        Threads(), 1);
-      if (crossing[0] || crossing[1])
+      // (in two halves on two threads, ARCGALTypes.h)
+      if (cgal::DoesSelfIntersect(mesh, Threads()))
       {
         error = "the feature surface intersects itself.";
         return false;

@@ -392,6 +392,10 @@ TEST(SoupToMesh, AgreesWithCGALOnWhatIsAPolygonMesh)
   cases.push_back({ "a triangle twice", { { 0, 1, 2 }, { 0, 1, 2 } } });
   cases.push_back({ "a closed fan and an open one at a vertex",
     { { 0, 1, 2 }, { 0, 2, 3 }, { 0, 3, 1 }, { 0, 4, 5 }, { 0, 5, 6 } } });
+  cases.push_back({ "no triangle", {} });
+  cases.push_back({ "a pillow: two triangles on the same corners, opposite ways", { { 0, 1, 2 }, { 0, 2, 1 } } });
+  cases.push_back({ "four triangles on one edge, two each way",
+    { { 0, 1, 2 }, { 1, 0, 3 }, { 0, 1, 4 }, { 1, 0, 5 } } });
   for (const auto& c : cases)
   {
     EXPECT_EQ(ar::cgal::IsTriangleSoupAMesh(c.second), PMP::is_polygon_soup_a_polygon_mesh(c.second)) << c.first;
@@ -421,4 +425,44 @@ TEST(SoupToMesh, AgreesWithCGALOnWhatIsAPolygonMesh)
   }
   EXPECT_GT(meshes, 10);
   EXPECT_GT(soups, 10);
+}
+
+TEST(SoupToMesh, SelfIntersectionFoundWhenBothTrianglesStraddleTheCut)
+{
+  // ar::cgal::DoesSelfIntersect tests two halves cut at the median of the
+  // triangles' centres along x. 100 small triangles apart from each other
+  // put the cut at x = 5.05; the one crossing pair, T1 over x 4 .. 6.2
+  // (centre 5.1) and T2 over 3.8 .. 6 (centre 4.9), straddles it with its
+  // centres on either side: a split by centre alone would miss it.
+  std::vector<ar::cgal::Point> points;
+  ar::cgal::Soup soup;
+  for (int i = 0; i < 100; ++i)
+  {
+    const double x = 0.05 + 0.1 * i, y = 2.0; // (x the longest axis)
+    const std::size_t first = points.size();
+    points.emplace_back(x - 0.01, y, 0.0);
+    points.emplace_back(x + 0.01, y, 0.0);
+    points.emplace_back(x, y + 0.01, 0.0);
+    soup.push_back({ first, first + 1, first + 2 });
+  }
+  ar::cgal::Mesh apart;
+  ASSERT_TRUE(ar::cgal::SoupToMesh(points, soup, apart));
+  EXPECT_FALSE(ar::cgal::DoesSelfIntersect(apart, 2));
+  const std::size_t first = points.size();
+  points.emplace_back(4.0, 0.0, 0.0); // T1, in z = 0
+  points.emplace_back(6.2, 0.0, 0.0);
+  points.emplace_back(5.1, 1.0, 0.0);
+  points.emplace_back(3.8, 0.5, -1.0); // T2, in y = 0.5, through T1
+  points.emplace_back(6.0, 0.5, -1.0);
+  points.emplace_back(4.9, 0.5, 1.0);
+  soup.push_back({ first, first + 1, first + 2 });
+  soup.push_back({ first + 3, first + 4, first + 5 });
+  ar::cgal::Mesh crossing;
+  ASSERT_TRUE(ar::cgal::SoupToMesh(points, soup, crossing));
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  ASSERT_TRUE(PMP::does_self_intersect(crossing)) << "the construction crosses";
+  for (const std::size_t threads : { 1, 2 })
+  {
+    EXPECT_TRUE(ar::cgal::DoesSelfIntersect(crossing, threads)) << threads << " thread(s)";
+  }
 }

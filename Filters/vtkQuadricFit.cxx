@@ -22,6 +22,7 @@
 #include "vtkImplicitPolyDataDistance.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkLine.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -192,32 +193,23 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
         const vtkIdType first = line * perLine, last = std::min(m, (line + 1) * perLine) - 1;
         const double* p0 = &points[3 * first];
         const double* p1 = &points[3 * last];
-        const double* mid = &points[3 * (first + (last - first) / 2)];
-        // (widened by 1e-9: the samples lie on the segment up to round-off)
-        const double r = (1.0 + 1e-9) * 2.0 * std::sqrt(vtkMath::Distance2BetweenPoints(mid, p1)) / reach;
-        double c[3], d[3];
+        // The line reaches `reach` local sizes to either side of its middle:
+        // r is two local sizes (widened by 1e-9: the samples lie on the
+        // segment up to round-off).
+        const double half = 0.5 * std::sqrt(vtkMath::Distance2BetweenPoints(p0, p1));
+        const double r = (1.0 + 1e-9) * 2.0 * half / reach;
+        double c[3];
         for (int a = 0; a < 3; ++a)
         {
           c[a] = 0.5 * (p0[a] + p1[a]);
-          d[a] = p1[a] - p0[a];
         }
-        const double dd = vtkMath::Dot(d, d);
-        nodes->FindPointsWithinRadius((1.0 + 1e-9) * (r + 0.5 * std::sqrt(dd)), c, found);
+        nodes->FindPointsWithinRadius((1.0 + 1e-9) * (r + half), c, found);
         for (vtkIdType k = 0; k < found->GetNumberOfIds(); ++k)
         {
           const vtkIdType id = found->GetId(k);
-          double y[3], q[3];
+          double y[3], t;
           source->GetPoint(id, y);
-          double t = 0.0;
-          if (dd > 0.0)
-          {
-            t = std::min(1.0, std::max(0.0, ((y[0] - p0[0]) * d[0] + (y[1] - p0[1]) * d[1] + (y[2] - p0[2]) * d[2]) / dd));
-          }
-          for (int a = 0; a < 3; ++a)
-          {
-            q[a] = p0[a] + t * d[a];
-          }
-          if (vtkMath::Distance2BetweenPoints(y, q) <= r * r)
+          if (vtkLine::DistanceToLine(y, p0, p1, t) <= r * r) // (to the segment)
           {
             near[id].store(1, std::memory_order_relaxed);
           }

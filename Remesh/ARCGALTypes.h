@@ -10,11 +10,13 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
 #include "ARParallelFor.h"
+#include "ARUnionFind.h"
 
 #include <algorithm>
 #include <array>
@@ -76,19 +78,7 @@ inline bool IsTriangleSoupAMesh(const Soup& faces)
   });
   // Corners (3 per face), joined across each edge two faces share: around
   // both its ends.
-  std::vector<std::size_t> parent(3 * n);
-  for (std::size_t i = 0; i < parent.size(); ++i)
-  {
-    parent[i] = i;
-  }
-  auto root = [&](std::size_t i) {
-    while (parent[i] != i)
-    {
-      parent[i] = parent[parent[i]];
-      i = parent[i];
-    }
-    return i;
-  };
+  UnionFind corners(3 * n);
   for (std::size_t i = 0; i < edges.size();)
   {
     std::size_t j = i + 1;
@@ -107,18 +97,18 @@ inline bool IsTriangleSoupAMesh(const Soup& faces)
       const Edge& up = edges[i + 1];
       const std::size_t downHi = 3 * down.Face + down.Corner, downLo = 3 * down.Face + (down.Corner + 1) % 3;
       const std::size_t upLo = 3 * up.Face + up.Corner, upHi = 3 * up.Face + (up.Corner + 1) % 3;
-      parent[root(downHi)] = root(upHi);
-      parent[root(downLo)] = root(upLo);
+      corners.Union(static_cast<std::int64_t>(downHi), static_cast<std::int64_t>(upHi));
+      corners.Union(static_cast<std::int64_t>(downLo), static_cast<std::int64_t>(upLo));
     }
     i = j;
   }
   // One fan per vertex: all its corners in one set.
-  std::vector<std::pair<std::size_t, std::size_t>> vertexRoot(3 * n);
+  std::vector<std::pair<std::size_t, std::int64_t>> vertexRoot(3 * n);
   for (std::size_t f = 0; f < n; ++f)
   {
     for (int k = 0; k < 3; ++k)
     {
-      vertexRoot[3 * f + k] = { faces[f][k], root(3 * f + k) };
+      vertexRoot[3 * f + k] = { faces[f][k], corners.Find(static_cast<std::int64_t>(3 * f + k)) };
     }
   }
   std::sort(vertexRoot.begin(), vertexRoot.end());
@@ -144,6 +134,7 @@ inline bool SoupToMesh(const std::vector<Point>& points, const Soup& faces, Mesh
   PMP::polygon_soup_to_polygon_mesh(points, faces, mesh);
   return true;
 }
+
 /// Whether `mesh` intersects itself (PMP::does_self_intersect), in two
 /// halves side by side on up to `threads` threads (0: the hardware's;
 /// CGAL's own parallel test needs TBB): cut at the median of the triangles'
@@ -160,11 +151,7 @@ inline bool DoesSelfIntersect(const Mesh& mesh, std::size_t threads)
   {
     return false;
   }
-  CGAL::Bbox_3 box;
-  for (const Mesh::Vertex_index v : mesh.vertices())
-  {
-    box += mesh.point(v).bbox();
-  }
+  const CGAL::Bbox_3 box = PMP::bbox(mesh);
   int axis = 0;
   for (int a = 1; a < 3; ++a)
   {
@@ -174,7 +161,6 @@ inline bool DoesSelfIntersect(const Mesh& mesh, std::size_t threads)
     }
   }
   std::vector<std::array<double, 2>> span(all.size()); // per face: its extent along the axis
-  std::vector<double> centre(all.size());
   for (std::size_t f = 0; f < all.size(); ++f)
   {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -185,10 +171,18 @@ inline bool DoesSelfIntersect(const Mesh& mesh, std::size_t threads)
       hi = std::max(hi, c);
     }
     span[f] = { lo, hi };
-    centre[f] = 0.5 * (lo + hi);
   }
-  // (a face with a non-finite coordinate has no centre and goes to both)
-  centre.erase(std::remove_if(centre.begin(), centre.end(), [](double c) { return !std::isfinite(c); }), centre.end());
+  // The median of the finite centres (a face with a non-finite coordinate
+  // goes to both halves).
+  std::vector<double> centre;
+  centre.reserve(all.size());
+  for (const auto& e : span)
+  {
+    if (std::isfinite(e[0]) && std::isfinite(e[1]))
+    {
+      centre.push_back(0.5 * (e[0] + e[1]));
+    }
+  }
   if (!centre.empty())
   {
     std::nth_element(centre.begin(), centre.begin() + centre.size() / 2, centre.end());

@@ -230,6 +230,19 @@ CASES = {
                         end=9.0, write=0.25, maxco=0.3),
     "wedge10Ma3o1": dict(_WEDGE10, order=1),
     "cone15Ma3o1": dict(_CONE15, order=1),
+    # Added after the plugin's defaults were settled, to try them on cases
+    # nobody had looked at: a Mach 2.5 wedge on triangles, a weak conical
+    # shock (upstream normal Mach 1.22; the compression behind it is 0.58 of
+    # the shock's own jump), a first-order Mach 5 wedge of 8 degrees.
+    "wedge18Ma2p5tri": dict(kind="wedge", mesher="gmsh2d", mach=2.5, angle=18.0, order=2,
+                            x0=-0.15, x1=0.3, height=0.33, span=0.01,
+                            hmin=0.003, hmax=0.009, dgrow=0.12,
+                            end=1.0, write=0.05, maxco=0.2),
+    "cone10Ma4": dict(kind="cone", mesher="gmsh3d", mach=4.0, angle=10.0, order=2,
+                      x0=-0.1, x1=1.0, radius=0.45,
+                      band=(8.5, 21.5), h0=0.013, h1=0.015, grow=0.25, hmax=0.07,
+                      end=0.6, write=0.1, maxco=0.3),
+    "wedge8Ma5o1": dict(_WEDGE10, mach=5.0, angle=8.0, height=0.14, end=0.5, write=0.05, order=1),
 }
 
 

@@ -719,8 +719,8 @@ private:
   void CentringLines(bool& cellData, std::vector<double>& lines, std::vector<double>& normals,
     std::vector<double>& scale);
   void AlongBoundary(vtkStaticCellLocator* onBoundary, vtkIdList* near, std::size_t j, double l, double g[3]);
-  void Refit(const std::vector<double>& values, const std::vector<double>& normals,
-    const std::vector<double>& scale);
+  bool Refit(const std::vector<double>& values, const std::vector<double>& normals,
+    const std::vector<double>& scale, int pass);
   std::vector<double> Exchange(std::vector<double>& lines, std::string& arrayName, bool& cellData);
   bool Fail(const std::string& message);
 
@@ -735,10 +735,11 @@ private:
   double status[7] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
   std::vector<double> packed;
   vtkSmartPointer<vtkPolyData> boundary;
-  // ShockCentring under MPI: rank 0 sends its lines through the points (or
-  // none), and every rank probes its piece of the domain along them.
+  // ShockCentring under MPI: rank 0 sends its lines through the points, one
+  // set per centring pass, then none, and every rank probes its piece of the
+  // domain along each set.
   const bool joinCentring;
-  bool exchanged = false;
+  bool exchanged = false; // rank 0 has sent the empty set that ends the passes
   double tolerance = 0.0; // the probe's, set by rank 0
   // Points
   std::size_t n = 0;
@@ -777,7 +778,7 @@ bool FitRun::Fail(const std::string& message)
 //------------------------------------------------------------------------------
 std::vector<double> FitRun::Exchange(std::vector<double>& lines, std::string& arrayName, bool& cellData)
 {
-  exchanged = true;
+  exchanged = lines.empty();
   if (joinCentring)
   {
     std::vector<double> header = { cellData ? 1.0 : 0.0, tolerance };
@@ -891,10 +892,15 @@ bool FitRun::Gather()
   {
     if (joinCentring)
     {
+      // Rank 0's centring passes, until it sends no lines.
       std::vector<double> lines;
-      std::string arrayName;
-      bool cellData = false;
-      Exchange(lines, arrayName, cellData);
+      do
+      {
+        lines.clear();
+        std::string arrayName;
+        bool cellData = false;
+        Exchange(lines, arrayName, cellData);
+      } while (!lines.empty());
     }
     return false; // rank 0 fits and meshes the surface
   }
@@ -1028,16 +1034,34 @@ bool FitRun::Fit()
 bool FitRun::Centre()
 {
   // ---- Shock centring: the points moved along the fit's normal to the
-  // half-jump of the centring array, and fitted again.
+  // half-jump of the centring array, and fitted again. Where the refit's
+  // template is not the one whose normals the lines followed (Automatic: a
+  // weak conical shock's medial points, spread through the compression
+  // behind it, fitted best by a plane within the allowance), the original
+  // points are centred again along the new fit's normals: a plane's normals
+  // run up to 45 degrees off a cone's, so its lines cross the whole shock
+  // layer and their jump is the cone wall's pressure, not the shock's.
   if (self->GetShockCentring() && hasDomain)
   {
-    std::vector<double> lines, normals(3 * n, 0.0), scale(n, 0.0);
-    bool cellData = false;
-    CentringLines(cellData, lines, normals, scale);
-    const std::vector<double> values = Exchange(lines, centringUsed, cellData);
-    if (!values.empty())
+    constexpr int passes = 3;
+    for (int pass = 0; pass < passes; ++pass)
     {
-      Refit(values, normals, scale);
+      std::vector<double> lines, normals(3 * n, 0.0), scale(n, 0.0);
+      bool cellData = false;
+      CentringLines(cellData, lines, normals, scale);
+      const std::vector<double> values = Exchange(lines, centringUsed, cellData);
+      const ar::SurfaceTemplate followed = fit.Template;
+      if (values.empty() || !Refit(values, normals, scale, pass) || fit.Template == followed)
+      {
+        break;
+      }
+    }
+    if (joinCentring && !exchanged)
+    {
+      std::vector<double> none;
+      std::string noName;
+      bool cellData = false;
+      Exchange(none, noName, cellData); // the other ranks' passes end
     }
   }
   return true;
@@ -1183,11 +1207,12 @@ void FitRun::AlongBoundary(vtkStaticCellLocator* onBoundary, vtkIdList* near, st
 }
 
 //------------------------------------------------------------------------------
-void FitRun::Refit(
-  const std::vector<double>& values, const std::vector<double>& normals, const std::vector<double>& scale)
+bool FitRun::Refit(
+  const std::vector<double>& values, const std::vector<double>& normals, const std::vector<double>& scale, int pass)
 {
   // The points moved to the half-jump on their lines, fitted again; the
-  // first fit is kept when fewer than half of them found a jump.
+  // fit the lines followed is kept when fewer than half of them found a
+  // jump. True when refitted.
   const int samples = 2 * CentringSamples + 1;
   std::vector<double> moved, movedWeights, shifts, widths;
   for (std::size_t j = 0; j < n; ++j)
@@ -1223,16 +1248,16 @@ void FitRun::Refit(
     centred = static_cast<double>(count);
     centringShift = Median(shifts);
     shockThickness = widths.empty() ? 0.0 : Median(widths);
+    return true;
   }
-  else
-  {
-    vtkWarningWithObjectMacro(self, << "ShockCentring: only " << count << " of " << n << " points found a jump of '"
-                    << centringUsed << "' within " << CentringReach
-                    << " LocalSize along the fitted surface's normal"
-                    << (refitError.empty() ? "" : " (" + refitError + ")")
-                    << "; the first fit, of the points where they are, is kept.");
-    std::copy(firstResiduals.begin(), firstResiduals.end(), residuals); // the first fit's
-  }
+  vtkWarningWithObjectMacro(self, << "ShockCentring: only " << count << " of " << n << " points found a jump of '"
+                  << centringUsed << "' within " << CentringReach
+                  << " LocalSize along the fitted surface's normal"
+                  << (refitError.empty() ? "" : " (" + refitError + ")")
+                  << (pass == 0 ? "; the first fit, of the points where they are, is kept."
+                                : "; the previous pass's centred fit is kept."));
+  std::copy(firstResiduals.begin(), firstResiduals.end(), residuals); // the kept fit's
+  return false;
 }
 
 //------------------------------------------------------------------------------

@@ -201,7 +201,12 @@ public:
    * CentringShift (the median move in LocalSize), ShockThickness (the
    * median 10-90 % width of the rise along the centred lines, length units:
    * the captured shock's thickness; 0 without centring). Fewer than half the points
-   * centred: the first fit is kept, with a warning.
+   * centred: the first fit is kept, with a warning. With the Automatic
+   * template, where the refit chooses another template than the one whose
+   * normals the lines followed, the original points are centred again along
+   * the new fit's normals (at most three passes): on a weak conical shock the
+   * first fit can be a plane, whose normals run up to 45 degrees off the
+   * cone's, and its lines then cross the whole layer behind the shock.
    */
   vtkSetMacro(ShockCentring, bool);
   vtkGetMacro(ShockCentring, bool);

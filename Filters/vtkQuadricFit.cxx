@@ -722,6 +722,7 @@ private:
   bool Refit(const std::vector<double>& values, const std::vector<double>& normals,
     const std::vector<double>& scale, int pass);
   std::vector<double> Exchange(std::vector<double>& lines, std::string& arrayName, bool& cellData);
+  void EndCentring();
   bool Fail(const std::string& message);
 
   vtkQuadricFit* self;
@@ -765,14 +766,21 @@ private:
 bool FitRun::Fail(const std::string& message)
 {
   vtkErrorWithObjectMacro(self, << message << " The output is empty.");
+  EndCentring(); // the other ranks may wait for it
+  return false;
+}
+
+//------------------------------------------------------------------------------
+void FitRun::EndCentring()
+{
+  // Rank 0's empty set of lines, once: the other ranks' centring passes end.
   if (joinCentring && !exchanged)
   {
     std::vector<double> none;
     std::string noName;
     bool cellData = false;
-    Exchange(none, noName, cellData); // the other ranks wait for it
+    Exchange(none, noName, cellData);
   }
-  return false;
 }
 
 //------------------------------------------------------------------------------
@@ -1056,13 +1064,7 @@ bool FitRun::Centre()
         break;
       }
     }
-    if (joinCentring && !exchanged)
-    {
-      std::vector<double> none;
-      std::string noName;
-      bool cellData = false;
-      Exchange(none, noName, cellData); // the other ranks' passes end
-    }
+    EndCentring();
   }
   return true;
 }
@@ -1238,7 +1240,7 @@ bool FitRun::Refit(
     }
   }
   const std::size_t count = movedWeights.size();
-  const std::array<double, 4> firstResiduals = { residuals[0], residuals[1], residuals[2], residuals[3] };
+  const std::array<double, 4> keptResiduals = { residuals[0], residuals[1], residuals[2], residuals[3] };
   ar::SurfaceFitResult refit;
   std::string refitError;
   if (count >= std::max<std::size_t>(ar::SurfaceTemplateMinimumPoints(fit.Template), (n + 1) / 2) &&
@@ -1256,7 +1258,7 @@ bool FitRun::Refit(
                   << (refitError.empty() ? "" : " (" + refitError + ")")
                   << (pass == 0 ? "; the first fit, of the points where they are, is kept."
                                 : "; the previous pass's centred fit is kept."));
-  std::copy(firstResiduals.begin(), firstResiduals.end(), residuals); // the kept fit's
+  std::copy(keptResiduals.begin(), keptResiduals.end(), residuals); // the kept fit's
   return false;
 }
 

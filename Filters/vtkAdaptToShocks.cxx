@@ -506,6 +506,7 @@ vtkSmartPointer<vtkPolyData> AdaptRun::FitClusters(
   fit->SetExtraClusterIds(std::vector<int>(ks.begin() + 1, ks.end()));
   const auto named = clusterTemplates.find(ks[0]);
   fit->SetTemplate(named == clusterTemplates.end() ? vtkQuadricFit::AUTOMATIC : named->second);
+  fit->SetGamma(self->GetGamma()); // the centring's Rankine-Hugoniot jump
   fit->Update();
   vtkPolyData* surface = fit->GetOutput();
   auto* name = vtkStringArray::SafeDownCast(surface->GetFieldData()->GetAbstractArray("Template"));

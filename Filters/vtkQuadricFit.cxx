@@ -116,45 +116,74 @@ vtkDataArray* CentringArrayOf(vtkDataSet* domain, const char* name, bool& cellDa
   return array;
 }
 
+/// An array ProbeOnAllRanks interpolates: its name, whether it is cell data
+/// (interpolated to the points first) and its number of components (every
+/// rank must give the same, whether or not its piece has the array).
+struct ProbedArray
+{
+  std::string Name;
+  bool CellData = false;
+  int Components = 1;
+};
+
 /**
- * The values of a point array of `domain` at `points` (x y z each), NaN
- * where none of this rank's cells holds a point. Under MPI every rank probes
- * its own piece and the values are averaged over the ranks that found the
- * point (a point in a ghost cell is found twice, with the same value up to
- * round-off): every rank must call this with the same points. The points
+ * The values of arrays of `domain` at `points` (x y z each), per array
+ * Components values per point, NaN where none of this rank's cells holds a
+ * point (or the array is missing). Under MPI every rank probes its own piece
+ * and the values are averaged over the ranks that found the point (a point
+ * in a ghost cell is found twice, with the same value up to round-off):
+ * every rank must call this with the same points and arrays. The points
  * come in lines of `perLine`, each `reach` local sizes to either side of its
  * middle point: only the cells with a node within 2 local sizes of a sample
  * are searched (on 5e6 cells the locator over all of them would cost more
  * than the fit). The search is on threads; its values are the same on any
- * number of them.
+ * number of them. The first array decides where a point was found.
  */
-std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, bool cellData,
+std::vector<std::vector<double>> ProbeOnAllRanks(vtkDataSet* domain, const std::vector<ProbedArray>& arrays,
   const std::vector<double>& points, int perLine, double reach, double tolerance)
 {
   const vtkIdType m = static_cast<vtkIdType>(points.size() / 3);
-  std::vector<double> acc(2 * static_cast<std::size_t>(m), 0.0); // value sums, then counts
-  vtkSmartPointer<vtkDataSet> source;
-  vtkDataArray* values = nullptr;
-  if (domain && domain->GetNumberOfCells() > 0 && arrayName)
+  std::vector<int> offsetOf(arrays.size() + 1, 0); // each array's first component among all of them
+  for (std::size_t a = 0; a < arrays.size(); ++a)
   {
-    // Only the one array: the probe interpolates nothing else.
+    offsetOf[a + 1] = offsetOf[a] + arrays[a].Components;
+  }
+  const int components = offsetOf.back();
+  // per component the value sums, then per array the counts (a piece
+  // without an array does not count for it)
+  std::vector<double> acc((components + arrays.size()) * static_cast<std::size_t>(m), 0.0);
+  vtkSmartPointer<vtkDataSet> source;
+  vtkDataArray* values = nullptr; // the first array's, on the source's points
+  if (domain && domain->GetNumberOfCells() > 0 && !arrays.empty())
+  {
+    // Only these arrays: the probe interpolates nothing else.
     source.TakeReference(domain->NewInstance());
     source->CopyStructure(domain);
-    vtkDataArray* a = cellData ? domain->GetCellData()->GetArray(arrayName) : domain->GetPointData()->GetArray(arrayName);
-    if (a && cellData)
+    for (const ProbedArray& wanted : arrays)
     {
-      source->GetCellData()->AddArray(a);
-      vtkNew<vtkCellDataToPointData> c2p;
-      c2p->SetInputData(source);
-      c2p->Update();
-      source = c2p->GetOutput();
-      values = source->GetPointData()->GetArray(arrayName);
+      vtkDataArray* a = wanted.CellData ? domain->GetCellData()->GetArray(wanted.Name.c_str())
+                                        : domain->GetPointData()->GetArray(wanted.Name.c_str());
+      if (!a || a->GetNumberOfComponents() != wanted.Components)
+      {
+        continue;
+      }
+      if (wanted.CellData)
+      {
+        vtkSmartPointer<vtkDataSet> cells;
+        cells.TakeReference(domain->NewInstance());
+        cells->CopyStructure(domain);
+        cells->GetCellData()->AddArray(a);
+        vtkNew<vtkCellDataToPointData> c2p;
+        c2p->SetInputData(cells);
+        c2p->Update();
+        a = c2p->GetOutput()->GetPointData()->GetArray(wanted.Name.c_str());
+      }
+      if (a)
+      {
+        source->GetPointData()->AddArray(a);
+      }
     }
-    else if (a)
-    {
-      source->GetPointData()->AddArray(a);
-      values = a;
-    }
+    values = source->GetPointData()->GetArray(arrays[0].Name.c_str());
   }
   if (values && m > 0 && perLine > 0)
   {
@@ -254,7 +283,12 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     extract->SetCellList(cellIds);
     extract->Update();
     vtkUnstructuredGrid* band = extract->GetOutput();
-    values = band->GetPointData()->GetArray(arrayName);
+    std::vector<vtkDataArray*> probed(arrays.size(), nullptr);
+    for (std::size_t a = 0; a < arrays.size(); ++a)
+    {
+      probed[a] = band->GetPointData()->GetArray(arrays[a].Name.c_str());
+    }
+    values = probed[0];
     vtkNew<vtkCellLocator> locator;
     locator->SetDataSet(band);
     if (band->GetNumberOfCells() > 0)
@@ -383,13 +417,19 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
       band->GetCell(chosen, z.cell);
       double closest[3], d2;
       z.cell->EvaluatePosition(x, closest, sub, pc, d2, z.wts.data());
-      double v = 0.0;
-      for (vtkIdType k = 0; k < z.cell->GetNumberOfPoints(); ++k)
+      for (std::size_t a = 0; a < arrays.size(); ++a)
       {
-        v += z.wts[k] * values->GetComponent(z.cell->GetPointId(k), 0);
+        for (int c = 0; probed[a] && c < arrays[a].Components; ++c)
+        {
+          double v = 0.0;
+          for (vtkIdType k = 0; k < z.cell->GetNumberOfPoints(); ++k)
+          {
+            v += z.wts[k] * probed[a]->GetComponent(z.cell->GetPointId(k), c);
+          }
+          acc[(offsetOf[a] + c) * static_cast<std::size_t>(m) + i] = v;
+        }
+        acc[(components + a) * static_cast<std::size_t>(m) + i] = probed[a] ? 1.0 : 0.0;
       }
-      acc[i] = v;
-      acc[m + i] = 1.0;
     };
     if (values && band->GetNumberOfCells() > 0)
     {
@@ -403,12 +443,18 @@ std::vector<double> ProbeOnAllRanks(vtkDataSet* domain, const char* arrayName, b
     }
   }
   vtkARParallel::AllReduceSum(acc.data(), static_cast<int>(acc.size()));
-  std::vector<double> out(m, std::numeric_limits<double>::quiet_NaN());
-  for (vtkIdType i = 0; i < m; ++i)
+  std::vector<std::vector<double>> out(arrays.size());
+  for (std::size_t a = 0; a < arrays.size(); ++a)
   {
-    if (acc[m + i] > 0.0)
+    const double* count = &acc[(components + a) * static_cast<std::size_t>(m)];
+    const int nc = arrays[a].Components;
+    out[a].assign(nc * static_cast<std::size_t>(m), std::numeric_limits<double>::quiet_NaN());
+    for (vtkIdType i = 0; i < m; ++i)
     {
-      out[i] = acc[i] / acc[m + i];
+      for (int c = 0; c < nc && count[i] > 0.0; ++c)
+      {
+        out[a][nc * i + c] = acc[(offsetOf[a] + c) * static_cast<std::size_t>(m) + i] / count[i];
+      }
     }
   }
   return out;
@@ -423,11 +469,18 @@ constexpr double CentringReach = 3.0;
  * `v` sampled at s = (k - K) / K * reach, k = 0..2K: the contiguous valid
  * part around the centre (at least a third of the reach on either side), the
  * smallest and largest values there, the crossing of their mean nearest the
- * centre. False where the line shows no jump of at least 5 %. With `width`:
- * the 10-90 % width of that rise (its 10 % and 90 % crossings nearest the
- * half-jump, in the same units as `offset`), -1 where either is missing.
+ * centre. False where the line shows no jump of at least 5 %. With `top`
+ * (given a sample's index: the value just behind a shock with that sample's
+ * state upstream, NaN where unknown), the largest top of the samples in the
+ * lower half of the rise, where it lies between the smallest and the
+ * largest value, is taken instead of the largest value for the half-jump:
+ * behind a conical shock p keeps rising towards the wall, so the largest
+ * value on the line is not the shock's. With `width`: the 10-90 % width of the whole rise on the line (its
+ * 10 % and 90 % crossings nearest the half-jump, in the same units as
+ * `offset`), -1 where either is missing.
  */
-bool HalfJumpOffset(const double* v, double reach, double& offset, double* width)
+bool HalfJumpOffset(const double* v, double reach, double& offset, double* width,
+  const std::function<double(int)>& top = nullptr)
 {
   const int K = CentringSamples, n = 2 * K + 1;
   if (!std::isfinite(v[K]))
@@ -447,11 +500,26 @@ bool HalfJumpOffset(const double* v, double reach, double& offset, double* width
   {
     return false;
   }
-  const double vmin = *std::min_element(v + lo, v + hi + 1);
+  const double* lowest = std::min_element(v + lo, v + hi + 1);
+  const double vmin = *lowest;
   const double vmax = *std::max_element(v + lo, v + hi + 1);
   if (!(vmax - vmin >= 0.05 * std::max(std::abs(vmin), std::abs(vmax))) || !(vmax > vmin))
   {
     return false;
+  }
+  double jumpTop = vmax;
+  if (top)
+  {
+    // The largest top of the samples in the lower half of the rise: a
+    // sample inside the smeared shock (a line cut short by the domain's
+    // boundary starts there) is no upstream state, and its jump is smaller.
+    double t = -std::numeric_limits<double>::infinity();
+    for (int k = lo; k <= hi; ++k)
+    {
+      const double tk = v[k] <= 0.5 * (vmin + vmax) ? top(k) : t;
+      t = std::isfinite(tk) ? std::max(t, tk) : t;
+    }
+    jumpTop = t > vmin && t < vmax ? t : vmax;
   }
   // The crossing of `level` nearest to `near` (the centre, then the half-jump).
   auto crossing = [&](double level, double near, double& at) {
@@ -472,7 +540,7 @@ bool HalfJumpOffset(const double* v, double reach, double& offset, double* width
     }
     return found;
   };
-  if (!crossing(0.5 * (vmin + vmax), 0.0, offset))
+  if (!crossing(0.5 * (vmin + jumpTop), 0.0, offset))
   {
     return false;
   }
@@ -716,12 +784,15 @@ public:
 private:
   void LocalPoints(std::ostringstream& problem, double flags[6]);
   bool FitPoints(const double* P, const double* W, std::size_t count, ar::SurfaceFitResult& f, std::string& e);
-  void CentringLines(bool& cellData, std::vector<double>& lines, std::vector<double>& normals,
-    std::vector<double>& scale);
+  void CentringLines(std::vector<double>& lines, std::vector<double>& normals, std::vector<double>& scale);
+  void CentringArrays();
+  void FitNormal(std::size_t j, double l, double g[3]) const;
+  double NormalsMoved(const std::vector<double>& scale) const;
   void AlongBoundary(vtkStaticCellLocator* onBoundary, vtkIdList* near, std::size_t j, double l, double g[3]);
-  bool Refit(const std::vector<double>& values, const std::vector<double>& normals,
+  bool Refit(const std::vector<std::vector<double>>& values, const std::vector<double>& normals,
     const std::vector<double>& scale, int pass);
-  std::vector<double> Exchange(std::vector<double>& lines, std::string& arrayName, bool& cellData);
+  double RankineHugoniotTop(const std::vector<std::vector<double>>& values, std::size_t j, int k) const;
+  std::vector<std::vector<double>> Exchange(std::vector<double>& lines);
   void EndCentring();
   bool Fail(const std::string& message);
 
@@ -742,6 +813,14 @@ private:
   const bool joinCentring;
   bool exchanged = false; // rank 0 has sent the empty set that ends the passes
   double tolerance = 0.0; // the probe's, set by rank 0
+  // The arrays probed along the lines, set by rank 0: the centring array,
+  // then (where it is the pressure or the density and the Domain has p,
+  // rho and U) the pressure, the density and the velocity, whose values on
+  // the upstream side give the Rankine-Hugoniot jump (`jumpOf`: the
+  // vtkShockSensor index of the centring array's quantity, -1 for none).
+  std::vector<ProbedArray> probedArrays;
+  int jumpOf = -1;
+  std::vector<double> surfaceNormals; // the fit's unit normal at each point, for the jump
   // Points
   std::size_t n = 0;
   bool haveIds = false, haveWeight = false, haveSize = false;
@@ -777,27 +856,37 @@ void FitRun::EndCentring()
   if (joinCentring && !exchanged)
   {
     std::vector<double> none;
-    std::string noName;
-    bool cellData = false;
-    Exchange(none, noName, cellData);
+    Exchange(none);
   }
 }
 
 //------------------------------------------------------------------------------
-std::vector<double> FitRun::Exchange(std::vector<double>& lines, std::string& arrayName, bool& cellData)
+std::vector<std::vector<double>> FitRun::Exchange(std::vector<double>& lines)
 {
   exchanged = lines.empty();
   if (joinCentring)
   {
-    std::vector<double> header = { cellData ? 1.0 : 0.0, tolerance };
+    // The tolerance, then per array its association and components, and
+    // the names one by one.
+    std::vector<double> header = { tolerance };
+    for (const ProbedArray& a : probedArrays)
+    {
+      header.insert(header.end(), { a.CellData ? 1.0 : 0.0, static_cast<double>(a.Components) });
+    }
     vtkARParallel::BroadcastFromRoot(header);
-    cellData = header[0] > 0.0;
-    tolerance = header[1];
-    vtkARParallel::BroadcastFromRoot(arrayName);
+    tolerance = header[0];
+    probedArrays.resize((header.size() - 1) / 2);
+    for (std::size_t a = 0; a < probedArrays.size(); ++a)
+    {
+      probedArrays[a].CellData = header[1 + 2 * a] > 0.0;
+      probedArrays[a].Components = static_cast<int>(header[2 + 2 * a]);
+      vtkARParallel::BroadcastFromRoot(probedArrays[a].Name);
+    }
     vtkARParallel::BroadcastFromRoot(lines);
   }
-  return lines.empty() ? std::vector<double>()
-                       : ProbeOnAllRanks(domain, arrayName.c_str(), cellData, lines, 2 * CentringSamples + 1, CentringReach, tolerance);
+  return lines.empty() || probedArrays.empty()
+    ? std::vector<std::vector<double>>()
+    : ProbeOnAllRanks(domain, probedArrays, lines, 2 * CentringSamples + 1, CentringReach, tolerance);
 }
 
 //------------------------------------------------------------------------------
@@ -905,9 +994,7 @@ bool FitRun::Gather()
       do
       {
         lines.clear();
-        std::string arrayName;
-        bool cellData = false;
-        Exchange(lines, arrayName, cellData);
+        Exchange(lines);
       } while (!lines.empty());
     }
     return false; // rank 0 fits and meshes the surface
@@ -1009,6 +1096,13 @@ bool FitRun::Fit()
         << "; it must be 0 (Plane), 1 (Quadric), 2 (Cone), 3 (Quartic) or 4 (Automatic).";
     return Fail(msg.str());
   }
+  if (!(self->GetGamma() > 1.0))
+  {
+    std::ostringstream msg;
+    msg << "Gamma (the ratio of specific heats, for ShockCentring's Rankine-Hugoniot jump) is "
+        << self->GetGamma() << "; it must be greater than 1.";
+    return Fail(msg.str());
+  }
   // The points' typical local size (the median l_j), for the automatic choice.
   if (!sizes.empty())
   {
@@ -1052,14 +1146,21 @@ bool FitRun::Centre()
   if (self->GetShockCentring() && hasDomain)
   {
     constexpr int passes = 3;
+    CentringArrays();
     for (int pass = 0; pass < passes; ++pass)
     {
       std::vector<double> lines, normals(3 * n, 0.0), scale(n, 0.0);
-      bool cellData = false;
-      CentringLines(cellData, lines, normals, scale);
-      const std::vector<double> values = Exchange(lines, centringUsed, cellData);
+      CentringLines(lines, normals, scale);
+      const std::vector<std::vector<double>> values = Exchange(lines);
       const ar::SurfaceTemplate followed = fit.Template;
-      if (values.empty() || !Refit(values, normals, scale, pass) || fit.Template == followed)
+      // Again along the refit's normals where its template changed, or
+      // where the jump is Rankine-Hugoniot's and the normals moved by more
+      // than a quarter degree: the normal Mach number, with the large
+      // tangential velocity of an oblique shock, moves with the normal
+      // (1.6 degrees off took 4 % off Mn and 13 % off the jump of a Mach 2.5
+      // plane shock, and the surface a tenth of a cell upstream).
+      if (values.empty() || !Refit(values, normals, scale, pass) ||
+        (fit.Template == followed && !(jumpOf >= 0 && NormalsMoved(scale) > 0.25)))
       {
         break;
       }
@@ -1070,23 +1171,136 @@ bool FitRun::Centre()
 }
 
 //------------------------------------------------------------------------------
-void FitRun::CentringLines(
-  bool& cellData, std::vector<double>& lines, std::vector<double>& normals, std::vector<double>& scale)
+void FitRun::CentringArrays()
+{
+  // The centring array, and where it is the pressure or the density, the
+  // pressure, density and velocity for the Rankine-Hugoniot jump (none
+  // without the centring array).
+  probedArrays.clear();
+  jumpOf = -1;
+  const char* centringArray = self->GetCentringArray();
+  bool cellData = false;
+  vtkDataArray* array = CentringArrayOf(domain, centringArray, cellData, centringUsed);
+  if (!array)
+  {
+    centringUsed.clear();
+    return;
+  }
+  probedArrays.push_back({ centringUsed, cellData, 1 });
+  vtkDataArray* known[3] = { nullptr, nullptr, nullptr };
+  int associations[3] = { -1, -1, -1 };
+  const int indices[3] = { vtkShockSensor::PRESSURE, vtkShockSensor::DENSITY, vtkShockSensor::VELOCITY };
+  for (int q = 0; q < 3; ++q)
+  {
+    known[q] = vtkShockSensor::FindKnownArray(indices[q], q == 2 ? 3 : 1, domain, associations[q]);
+  }
+  if (known[0] && known[1] && known[2])
+  {
+    for (int q = 0; q < 2; ++q)
+    {
+      const bool sameAssociation =
+        (associations[q] == vtkDataObject::FIELD_ASSOCIATION_CELLS) == cellData;
+      jumpOf = jumpOf < 0 && known[q] == array && sameAssociation ? indices[q] : jumpOf;
+    }
+  }
+  if (jumpOf >= 0)
+  {
+    for (int q = 0; q < 3; ++q)
+    {
+      probedArrays.push_back({ known[q]->GetName(), associations[q] == vtkDataObject::FIELD_ASSOCIATION_CELLS,
+        q == 2 ? 3 : 1 });
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+double FitRun::RankineHugoniotTop(const std::vector<std::vector<double>>& values, std::size_t j, int k) const
+{
+  // The value just behind a shock whose upstream state is the line's sample
+  // k (its smallest value of the centring array): the normal Mach number
+  // Mn = |U . n| / sqrt(Gamma p / rho) there, n the fitted surface's normal
+  // at the line's point (not the line's direction: a point on the domain's
+  // boundary centres along it, and a line along a symmetry plane runs up
+  // to 45 degrees off the shock's normal);
+  // p2 / p1 = 1 + 2 Gamma / (Gamma + 1) (Mn^2 - 1), rho2 / rho1 =
+  // (Gamma + 1) Mn^2 / ((Gamma - 1) Mn^2 + 2). NaN where it is not known
+  // (Mn at most 1: no shock by that state, and the line's largest value
+  // stands).
+  if (jumpOf < 0 || values.size() < 4)
+  {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const std::size_t i = j * (2 * CentringSamples + 1) + static_cast<std::size_t>(k);
+  const double p1 = values[1][i], rho1 = values[2][i];
+  const double* u = &values[3][3 * i];
+  const double* nrm = surfaceNormals.data() + 3 * j;
+  const double gamma = self->GetGamma();
+  const double un = u[0] * nrm[0] + u[1] * nrm[1] + u[2] * nrm[2];
+  if (!(p1 > 0.0) || !(rho1 > 0.0) || !std::isfinite(un))
+  {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const double mn2 = un * un * rho1 / (gamma * p1);
+  if (!(mn2 > 1.0))
+  {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return jumpOf == vtkShockSensor::PRESSURE ? p1 * (1.0 + 2.0 * gamma / (gamma + 1.0) * (mn2 - 1.0))
+                                            : rho1 * (gamma + 1.0) * mn2 / ((gamma - 1.0) * mn2 + 2.0);
+}
+
+//------------------------------------------------------------------------------
+void FitRun::FitNormal(std::size_t j, double l, double g[3]) const
+{
+  // The unit normal of the fit at point j: the gradient of the signed
+  // distance (central differences over 1e-3 of the point's size l).
+  double len = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    double xp[3] = { xyz[3 * j], xyz[3 * j + 1], xyz[3 * j + 2] }, xm[3] = { xp[0], xp[1], xp[2] };
+    xp[a] += 1e-3 * l;
+    xm[a] -= 1e-3 * l;
+    g[a] = (ar::SurfaceDistance(fit, xp) - ar::SurfaceDistance(fit, xm)) / (2e-3 * l);
+    len += g[a] * g[a];
+  }
+  len = std::sqrt(len);
+  for (int a = 0; a < 3 && len > 0.0 && std::isfinite(len); ++a)
+  {
+    g[a] /= len;
+  }
+}
+
+//------------------------------------------------------------------------------
+double FitRun::NormalsMoved(const std::vector<double>& scale) const
+{
+  // The largest angle (degrees) between the normals the lines' jumps were
+  // read with and the current fit's, at the points.
+  double worst = 0.0;
+  for (std::size_t j = 0; j < n; ++j)
+  {
+    double g[3];
+    FitNormal(j, scale[j], g);
+    const double c = vtkMath::Dot(g, &surfaceNormals[3 * j]);
+    worst = std::max(worst, vtkMath::DegreesFromRadians(std::acos(std::min(1.0, std::abs(c)))));
+  }
+  return worst;
+}
+
+//------------------------------------------------------------------------------
+void FitRun::CentringLines(std::vector<double>& lines, std::vector<double>& normals, std::vector<double>& scale)
 {
   // The lines along the first fit's normal through the points, CentringReach
   // local sizes to either side, CentringSamples samples per side (none when
   // there is no centring array or no length).
   const char* centringArray = self->GetCentringArray();
-  vtkDataArray* array = CentringArrayOf(domain, centringArray, cellData, centringUsed);
   const int samples = 2 * CentringSamples + 1;
-  if (!array)
+  if (probedArrays.empty())
   {
     vtkWarningWithObjectMacro(self, << "ShockCentring: the Domain has no one-component array "
                     << (centringArray && std::string(centringArray) != vtkShockSensor::AutomaticArrayName
                            ? std::string("'") + centringArray + "'"
                            : std::string("of pressure or density (p, Pressure, rho, Density, ...)"))
                     << "; the points are fitted where they are.");
-    centringUsed.clear();
     return;
   }
   if (!haveSize && !haveWeight)
@@ -1097,6 +1311,7 @@ void FitRun::CentringLines(
     return;
   }
   lines.resize(3 * n * samples);
+  surfaceNormals.assign(3 * n, 0.0);
   tolerance = 1e-6 * typical; // typical > 0: the points have LocalSize or Weight
   vtkSmartPointer<vtkStaticCellLocator> onBoundary;
   if (boundary && boundary->GetNumberOfCells() > 0)
@@ -1110,21 +1325,9 @@ void FitRun::CentringLines(
   {
     const double l = haveSize ? packed[Stride * j + 4] : 1.0 / w[j];
     scale[j] = l;
-    // The unit normal: the gradient of the signed distance.
-    double g[3], len = 0.0;
-    for (int a = 0; a < 3; ++a)
-    {
-      double xp[3] = { xyz[3 * j], xyz[3 * j + 1], xyz[3 * j + 2] }, xm[3] = { xp[0], xp[1], xp[2] };
-      xp[a] += 1e-3 * l;
-      xm[a] -= 1e-3 * l;
-      g[a] = (ar::SurfaceDistance(fit, xp) - ar::SurfaceDistance(fit, xm)) / (2e-3 * l);
-      len += g[a] * g[a];
-    }
-    len = std::sqrt(len);
-    for (int a = 0; a < 3 && len > 0.0 && std::isfinite(len); ++a)
-    {
-      g[a] /= len;
-    }
+    double g[3];
+    FitNormal(j, l, g);
+    std::copy(g, g + 3, &surfaceNormals[3 * j]);
     // A point on the domain's boundary (a symmetry plane, the front or
     // back plane of a one-cell-deep mesh) centres along the boundary: a
     // normal tilted out of it by a hair would leave half the line outside.
@@ -1209,8 +1412,8 @@ void FitRun::AlongBoundary(vtkStaticCellLocator* onBoundary, vtkIdList* near, st
 }
 
 //------------------------------------------------------------------------------
-bool FitRun::Refit(
-  const std::vector<double>& values, const std::vector<double>& normals, const std::vector<double>& scale, int pass)
+bool FitRun::Refit(const std::vector<std::vector<double>>& values, const std::vector<double>& normals,
+  const std::vector<double>& scale, int pass)
 {
   // The points moved to the half-jump on their lines, fitted again; the
   // fit the lines followed is kept when fewer than half of them found a
@@ -1223,7 +1426,9 @@ bool FitRun::Refit(
     const bool unit = std::abs(normals[3 * j] * normals[3 * j] + normals[3 * j + 1] * normals[3 * j + 1] +
                                normals[3 * j + 2] * normals[3 * j + 2] - 1.0) < 1e-6;
     double width = -1.0;
-    const bool okj = unit && HalfJumpOffset(&values[j * samples], CentringReach, offset, &width);
+    const bool okj = unit &&
+      HalfJumpOffset(&values[0][j * samples], CentringReach, offset, &width,
+        [&](int k) { return RankineHugoniotTop(values, j, k); });
     if (!okj)
     {
       continue;
@@ -1561,5 +1766,6 @@ void vtkQuadricFit::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SurfaceEdgeLength: " << this->SurfaceEdgeLength << "\n";
   os << indent << "ShockCentring: " << this->ShockCentring << "\n";
   os << indent << "CentringArray: " << (this->CentringArray ? this->CentringArray : "(none)") << "\n";
+  os << indent << "Gamma: " << this->Gamma << "\n";
   os << indent << "Margin: " << this->Margin << "\n";
 }

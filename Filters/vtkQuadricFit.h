@@ -187,8 +187,14 @@ public:
    * fit, every point is moved along the fitted surface's normal to where
    * CentringArray (a point array of the Domain) is halfway through its jump,
    * and the surface is fitted again to the moved points. The jump is read on
-   * a line of +-3 LocalSize through the point (the array's smallest and
-   * largest values on it); a point whose line finds no jump of at least 5 %,
+   * a line of +-3 LocalSize through the point: from the array's smallest
+   * value on it to, where the array is the pressure or the density and the
+   * Domain has p, rho and U, the Rankine-Hugoniot value behind a shock whose
+   * upstream state is that of the smallest value (normal Mach number from U
+   * along the line, Gamma), else the largest value on the line. Behind a
+   * conical shock p keeps rising towards the wall (by 0.58 of the shock's
+   * own jump on a Mach 4, 10 degree cone): the largest value put the centred
+   * surface 0.5-1.2 degrees inside the solution's shock. A point whose line finds no jump of at least 5 %,
    * or leaves the domain within one LocalSize of it, does not take part in
    * the second fit. Medial points are mesh nodes anywhere in a captured
    * shock's band, 2-4 cells thick; the band's node-distance medial layer is
@@ -219,6 +225,13 @@ public:
   /// Pressure, ... as ShockSensor finds it), else the density (rho, Density).
   vtkSetStringMacro(CentringArray);
   vtkGetStringMacro(CentringArray);
+  ///@}
+
+  ///@{
+  /// Ratio of specific heats, for ShockCentring's Rankine-Hugoniot jump
+  /// (default 1.4). Greater than 1: refused otherwise, not clamped.
+  vtkSetMacro(Gamma, double);
+  vtkGetMacro(Gamma, double);
   ///@}
 
   ///@{
@@ -272,6 +285,7 @@ private:
   double SurfaceEdgeLength = 0.0;
   bool ShockCentring = true;
   char* CentringArray = nullptr;
+  double Gamma = 1.4;
   double Margin = 3.0;
   vtkSmartPointer<vtkPolyData> DomainBoundary;
 };

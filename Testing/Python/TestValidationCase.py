@@ -11,7 +11,17 @@ Asserts, on the adapted mesh and the first fitted surface (port 1):
   (theta-beta-Mach or Taylor-Maccoll, in the case's field data). QuadricFit
   centres the medial points on the half-jump of p before the final fit
   (ShockCentring); without it these coarse solutions' fits were -0.3 to +1.3
-  degrees off;
+  degrees off. A cone's angle is that of the fitted surface about the cone's
+  own tip and axis (ConeTip, ConeAxis): a line through the tip fitted to its
+  points at 0.4-0.95 of the domain's length (cone_angles). The free cone's
+  HalfAngle is printed, not checked: a quarter of a nappe fixes its axis
+  poorly (cone10Ma4's tilts 3.7 degrees and opens 3.6 degrees wider, with
+  the surface on the shock). The surface must also lie on the solution's own
+  shock, within ANGLE_TOLERANCE of where p is half-way from the free
+  stream's value to Taylor-Maccoll's behind the shock, measured the same way
+  on the meridians 0, 45 and 90 degrees: until the centring read the
+  Rankine-Hugoniot jump, the cones' surfaces were 0.9-1.2 degrees inside
+  it while their HalfAngles passed;
 - the 2-D bow shock (cylinderMa3): the fitted surfaces cross the stagnation
   line (y = 0, at mid-depth) within one input cell (that cell's extent along
   x) of where p in the solution is half-way from the free stream's value to
@@ -63,11 +73,64 @@ ANGLE_TOLERANCE = 0.5  # degrees, the issue's target
 # fit is +0.57; on a mesh 1.3x finer (41,062 tetrahedra, 13 minutes of solver,
 # too slow here) the far part is at +0.12 and the fit at +0.50.
 CASE_TOLERANCE = {"wedge12Ma6tet": 0.7}
+# The cones' surfaces against the solution's own shock: cone15Ma3o1's
+# first-order shock is about 0.14 wide, nine input cells, and the centring
+# lines (+-3 LocalSize) see only its middle, where no sample is an upstream
+# state: the surface is 0.65 degree inside that shock (and 0.05 from theory,
+# the solution's shock being 0.70 wide of it).
+OWN_SHOCK_TOLERANCE = {"cone15Ma3o1": 0.8}
 # The prism-layer variant: the 3-D cases with room for the stack, and the
 # smallest angle asked of the layer cells (the closure's tetrahedra, see above).
 NO_PRISM_CASES = {"wedge12Ma6tet"}
 CLOSURE_FLOOR = 5.0
 
+
+
+def cone_angles(src, surf, lo=0.4, hi=0.95, stations=8):
+    """(the fitted surface's angle, the solution's own shock angle, points
+    used), degrees, about the cone's tip and axis (field data ConeTip,
+    ConeAxis): a line through the tip fitted (least squares in r = x tan b)
+    to the surface's points at lo..hi of the domain's length along the axis,
+    and to the outermost crossings of p = (p1 + p2) / 2 (p1 upstream, p2
+    Taylor-Maccoll's behind the shock) on the meridians 0, 45 and 90 degrees
+    at `stations` stations over the same range."""
+    sys.path.insert(0, os.environ["AR_DATA_DIR"])
+    from convert_cone20Ma2p5 import probe_p
+    tip, axis = np.asarray(artest.field(src, "ConeTip")), np.asarray(artest.field(src, "ConeAxis"))
+    axis = axis / np.linalg.norm(axis)
+    P = np.asarray(src.Points, dtype=np.float64) - tip
+    t = P @ axis
+    length = t.max()
+    rmax = 0.995 * np.linalg.norm(P - t[:, None] * axis, axis=1).max()
+    S = np.asarray(surf.Points, dtype=np.float64) - tip
+    ts = S @ axis
+    rs = np.linalg.norm(S - ts[:, None] * axis, axis=1)
+    sel = (ts >= lo * length) & (ts <= hi * length)
+    surface = np.degrees(np.arctan((ts[sel] @ rs[sel]) / (ts[sel] @ ts[sel]))) if sel.any() else np.nan
+    p1 = np.asarray(src.PointData["p"])[np.argmin(t)]
+    p_mid = 0.5 * p1 * (1.0 + f(src, "ShockPressureRatioTaylorMaccoll"))
+    tan_c = np.tan(np.radians(f(src, "ConeHalfAngle")))
+    xs, rs_own = [], []
+    # probed about the inflow direction (+x, within 0.01 degree of the axis,
+    # make_validation_case.py checks): the meridians 0 and 90 degrees lie
+    # exactly in the symmetry planes, where an axis off by 1e-9 would not
+    flow = np.asarray(artest.field(src, "FlowDirection"))
+    for psi in np.radians([0.0, 45.0, 90.0]):
+        d = np.array([0.0, np.cos(psi), np.sin(psi)])
+        for x in np.linspace(lo, hi, stations) * length:
+            r = np.linspace(x * tan_c * 1.001, rmax, 2000)
+            p, ok = probe_p(src.VTKObject, tip + x * flow + r[:, None] * d)
+            hit = np.where(ok[:-1] & ok[1:] & ((p[:-1] - p_mid) * (p[1:] - p_mid) <= 0.0) & (p[:-1] != p[1:]))[0]
+            if len(hit):
+                i = hit[-1]
+                xs.append(x)
+                rs_own.append(r[i] + (p_mid - p[i]) * (r[i + 1] - r[i]) / (p[i + 1] - p[i]))
+    xs, rs_own = np.array(xs), np.array(rs_own)
+    own = np.degrees(np.arctan((xs @ rs_own) / (xs @ xs))) if len(xs) >= 5 else np.nan
+    return surface, own, int(sel.sum())
+
+
+f = lambda d, n: artest.field(d, n)[0]
 case = sys.argv[1]
 artest.load_plugin(globals())
 out_dir = os.path.join(artest.OUTPUT_DIR, "validation")
@@ -81,7 +144,6 @@ if rc != 0:
 
 reader = XMLUnstructuredGridReader(FileName=[solution])
 src = artest.fetch(reader)
-f = lambda d, n: artest.field(d, n)[0]
 adapt = AdaptToShocks(Input=reader)
 out, surf = artest.fetch(adapt), artest.fetch(adapt, 1)
 check("Region" in out.CellData.keys() and surf.GetNumberOfCells() > 0,
@@ -146,8 +208,14 @@ elif "ShockAngleThetaBetaMach" in src.FieldData.keys():
     expected = "Plane"
 else:
     theory = f(src, "ShockAngleTaylorMaccoll")
-    angle = f(surf, "HalfAngle") if template == "Cone" else np.nan
+    angle, own, used = cone_angles(src, surf) if template == "Cone" else (np.nan, np.nan, 0)
     expected = "Cone"
+    own_tolerance = OWN_SHOCK_TOLERANCE.get(case, ANGLE_TOLERANCE)
+    check(template == expected and abs(angle - own) <= own_tolerance,
+          "%s: the fitted surface (%d points) at %.2f deg about the cone's axis, the solution's own shock at %.2f "
+          "(%+.2f; at most %.1f); the free cone's HalfAngle %.2f (theory %.2f)"
+          % (case, used, angle, own, angle - own, own_tolerance,
+             f(surf, "HalfAngle") if template == "Cone" else np.nan, theory))
 if "CylinderRadius" not in src.FieldData.keys():
     check(template == expected and abs(angle - theory) <= tolerance,
           "%s: the first surface is a %s at %.2f deg, theory %.2f (%+.2f; tolerance %.1f, target 0.5)"

@@ -252,6 +252,16 @@ CASES = {
                           x0=-0.1, x1=0.3, height=0.22, span=0.15,
                           hmin=0.008, hmax=0.02, dgrow=0.1,
                           end=0.3, write=0.05, maxco=0.3),
+    # Added on 7 December after the Rankine-Hugoniot centring, to try it on
+    # cones nobody had looked at: Mach 3.5 at 12 degrees, Mach 2.5 at 30.
+    "cone12Ma3p5": dict(kind="cone", mesher="gmsh3d", mach=3.5, angle=12.0, order=2,
+                        x0=-0.1, x1=1.0, radius=0.5,
+                        band=(10.5, 24.0), h0=0.014, h1=0.016, grow=0.25, hmax=0.08,
+                        end=0.6, write=0.1, maxco=0.3),
+    "cone30Ma2p5": dict(kind="cone", mesher="gmsh3d", mach=2.5, angle=30.0, order=2,
+                        x0=-0.1, x1=1.0, radius=1.1,
+                        band=(28.5, 46.5), h0=0.018, h1=0.03, grow=0.25, hmax=0.1,
+                        end=1.5, write=0.1, maxco=0.3),
 }
 
 

@@ -246,7 +246,8 @@ CASES = {
     # Added on 7 December: a Mach 3 wedge of 15 degrees on tetrahedra, a slab
     # 0.15 deep. Not in the CTest matrix: AdaptToShocks's new cells at the
     # shock are 0.345 of the input's size (SurfaceSizeRatio; the target is
-    # 1/3, see the README's validation section), its plane and the rest pass.
+    # 1/3, see the README's validation section) and its prism-layer closure
+    # tetrahedra 4.7 degrees (the floor 5); its plane and the rest pass.
     # Steady at endTime 0.3 (rms dp 0.011 % between the last writes; 100 s).
     "wedge15Ma3tet": dict(kind="wedge", mesher="gmsh3d", mach=3.0, angle=15.0, order=2,
                           x0=-0.1, x1=0.3, height=0.22, span=0.15,
@@ -977,16 +978,6 @@ def convert(args):
             sys.exit("no points on patch '%s'" % patch)
         return nps.vtk_to_numpy(pts.GetPoints().GetData()).astype(np.float64)
 
-    def last_crossing(grid, origin, direction, s0, s1, level, n=2000):
-        """Largest s in [s0, s1] where p(origin + s direction) crosses level, or None."""
-        s = np.linspace(s0, s1, n)
-        p, ok = probe_p(grid, origin + s[:, None] * direction)
-        hit = np.where(ok[:-1] & ok[1:] & ((p[:-1] - level) * (p[1:] - level) <= 0.0) & (p[:-1] != p[1:]))[0]
-        if len(hit) == 0:
-            return None
-        i = hit[-1]
-        return s[i] + (level - p[i]) * (s[i + 1] - s[i]) / (p[i + 1] - p[i])
-
     def shock_angle(grid, tip, axis, normals, half_angle, length, p_mid):
         """Shock angle (deg) on each plane (axis, normal): a line through the tip
         fitted to the outermost p = p_mid crossings at 12 stations."""
@@ -1142,6 +1133,21 @@ def convert(args):
         print("check       stagnation point p/p1 %.4f vs pitot %.4f: %+.2f%% %s"
               % (p_stag[0] / p_in, pitot, 100 * (p_stag[0] / p_in / pitot - 1.0), "ok" if ok_p else "FAILED"))
     return 0 if ok else 1
+
+
+def last_crossing(grid, origin, direction, s0, s1, level, n=2000):
+    """Largest s in [s0, s1] where p(origin + s direction) crosses level (p of
+    the vtkDataSet `grid`, linear between n samples), or None. Also used by
+    Testing/Python/TestValidationCase.py."""
+    import numpy as np
+    from convert_cone20Ma2p5 import probe_p
+    s = np.linspace(s0, s1, n)
+    p, ok = probe_p(grid, origin + s[:, None] * direction)
+    hit = np.where(ok[:-1] & ok[1:] & ((p[:-1] - level) * (p[1:] - level) <= 0.0) & (p[:-1] != p[1:]))[0]
+    if len(hit) == 0:
+        return None
+    i = hit[-1]
+    return s[i] + (level - p[i]) * (s[i + 1] - s[i]) / (p[i + 1] - p[i])
 
 
 # ---------------------------------------------------------------------------- main

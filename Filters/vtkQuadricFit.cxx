@@ -813,12 +813,14 @@ private:
   const bool joinCentring;
   bool exchanged = false; // rank 0 has sent the empty set that ends the passes
   double tolerance = 0.0; // the probe's, set by rank 0
-  // The arrays probed along the lines, set by rank 0: the centring array,
-  // then (where it is the pressure or the density and the Domain has p,
-  // rho and U) the pressure, the density and the velocity, whose values on
-  // the upstream side give the Rankine-Hugoniot jump (`jumpOf`: the
-  // vtkShockSensor index of the centring array's quantity, -1 for none).
+  // The arrays probed along the lines, set by rank 0: the centring array
+  // alone, or where it is the pressure or the density and the Domain has p,
+  // rho and U, those three (the centring array among them, at
+  // `centringIndex`), whose values on the upstream side give the
+  // Rankine-Hugoniot jump (`jumpOf`: the vtkShockSensor index of the
+  // centring array's quantity, -1 for none).
   std::vector<ProbedArray> probedArrays;
+  std::size_t centringIndex = 0;
   int jumpOf = -1;
   std::vector<double> surfaceNormals; // the fit's unit normal at each point, for the jump
   // Points
@@ -1177,6 +1179,7 @@ void FitRun::CentringArrays()
   // pressure, density and velocity for the Rankine-Hugoniot jump (none
   // without the centring array).
   probedArrays.clear();
+  centringIndex = 0;
   jumpOf = -1;
   const char* centringArray = self->GetCentringArray();
   bool cellData = false;
@@ -1186,7 +1189,6 @@ void FitRun::CentringArrays()
     centringUsed.clear();
     return;
   }
-  probedArrays.push_back({ centringUsed, cellData, 1 });
   vtkDataArray* known[3] = { nullptr, nullptr, nullptr };
   int associations[3] = { -1, -1, -1 };
   const int indices[3] = { vtkShockSensor::PRESSURE, vtkShockSensor::DENSITY, vtkShockSensor::VELOCITY };
@@ -1194,22 +1196,23 @@ void FitRun::CentringArrays()
   {
     known[q] = vtkShockSensor::FindKnownArray(indices[q], q == 2 ? 3 : 1, domain, associations[q]);
   }
-  if (known[0] && known[1] && known[2])
+  for (int q = 0; q < 2 && known[0] && known[1] && known[2]; ++q)
   {
-    for (int q = 0; q < 2; ++q)
+    if (known[q] == array)
     {
-      const bool sameAssociation =
-        (associations[q] == vtkDataObject::FIELD_ASSOCIATION_CELLS) == cellData;
-      jumpOf = jumpOf < 0 && known[q] == array && sameAssociation ? indices[q] : jumpOf;
+      jumpOf = indices[q];
+      centringIndex = static_cast<std::size_t>(q);
     }
   }
-  if (jumpOf >= 0)
+  if (jumpOf < 0)
   {
-    for (int q = 0; q < 3; ++q)
-    {
-      probedArrays.push_back({ known[q]->GetName(), associations[q] == vtkDataObject::FIELD_ASSOCIATION_CELLS,
-        q == 2 ? 3 : 1 });
-    }
+    probedArrays.push_back({ centringUsed, cellData, 1 });
+    return;
+  }
+  for (int q = 0; q < 3; ++q)
+  {
+    probedArrays.push_back(
+      { known[q]->GetName(), associations[q] == vtkDataObject::FIELD_ASSOCIATION_CELLS, q == 2 ? 3 : 1 });
   }
 }
 
@@ -1217,7 +1220,7 @@ void FitRun::CentringArrays()
 double FitRun::RankineHugoniotTop(const std::vector<std::vector<double>>& values, std::size_t j, int k) const
 {
   // The value just behind a shock whose upstream state is the line's sample
-  // k (its smallest value of the centring array): the normal Mach number
+  // k (p, rho and U: probedArrays 0, 1, 2): the normal Mach number
   // Mn = |U . n| / sqrt(Gamma p / rho) there, n the fitted surface's normal
   // at the line's point (not the line's direction: a point on the domain's
   // boundary centres along it, and a line along a symmetry plane runs up
@@ -1226,13 +1229,9 @@ double FitRun::RankineHugoniotTop(const std::vector<std::vector<double>>& values
   // (Gamma + 1) Mn^2 / ((Gamma - 1) Mn^2 + 2). NaN where it is not known
   // (Mn at most 1: no shock by that state, and the line's largest value
   // stands).
-  if (jumpOf < 0 || values.size() < 4)
-  {
-    return std::numeric_limits<double>::quiet_NaN();
-  }
   const std::size_t i = j * (2 * CentringSamples + 1) + static_cast<std::size_t>(k);
-  const double p1 = values[1][i], rho1 = values[2][i];
-  const double* u = &values[3][3 * i];
+  const double p1 = values[0][i], rho1 = values[1][i];
+  const double* u = &values[2][3 * i];
   const double* nrm = surfaceNormals.data() + 3 * j;
   const double gamma = self->GetGamma();
   const double un = u[0] * nrm[0] + u[1] * nrm[1] + u[2] * nrm[2];
@@ -1426,9 +1425,10 @@ bool FitRun::Refit(const std::vector<std::vector<double>>& values, const std::ve
     const bool unit = std::abs(normals[3 * j] * normals[3 * j] + normals[3 * j + 1] * normals[3 * j + 1] +
                                normals[3 * j + 2] * normals[3 * j + 2] - 1.0) < 1e-6;
     double width = -1.0;
+    const std::function<double(int)> top = [&](int k) { return RankineHugoniotTop(values, j, k); };
     const bool okj = unit &&
-      HalfJumpOffset(&values[0][j * samples], CentringReach, offset, &width,
-        [&](int k) { return RankineHugoniotTop(values, j, k); });
+      HalfJumpOffset(&values[centringIndex][j * samples], CentringReach, offset, &width,
+        jumpOf >= 0 ? top : nullptr);
     if (!okj)
     {
       continue;

@@ -189,12 +189,15 @@ public:
    * and the surface is fitted again to the moved points. The jump is read on
    * a line of +-3 LocalSize through the point: from the array's smallest
    * value on it to, where the array is the pressure or the density and the
-   * Domain has p, rho and U, the Rankine-Hugoniot value behind a shock whose
-   * upstream state is that of the smallest value (normal Mach number from U
-   * along the line, Gamma), else the largest value on the line. Behind a
-   * conical shock p keeps rising towards the wall (by 0.58 of the shock's
-   * own jump on a Mach 4, 10 degree cone): the largest value put the centred
-   * surface 0.5-1.2 degrees inside the solution's shock. A point whose line finds no jump of at least 5 %,
+   * Domain has p, rho and U, the Rankine-Hugoniot value behind a shock with
+   * a sample's state upstream (the largest over the samples in the lower
+   * half of the rise; normal Mach number from U along the fitted surface's
+   * normal, Gamma), else the largest value on the line. Behind a conical
+   * shock p keeps rising towards the wall (by 0.58 of the shock's own jump
+   * on a Mach 4, 10 degree cone): the largest value put the centred surface
+   * 0.9-1.7 degrees inside the solution's shock. The points are centred
+   * again while the fit's normals move by more than 0.25 degree (the jump
+   * follows the normal). A point whose line finds no jump of at least 5 %,
    * or leaves the domain within one LocalSize of it, does not take part in
    * the second fit. Medial points are mesh nodes anywhere in a captured
    * shock's band, 2-4 cells thick; the band's node-distance medial layer is

@@ -68,13 +68,22 @@ vtkStandardNewMacro(vtkEmbeddedRemesh);
 
 
 //------------------------------------------------------------------------------
-double vtkEmbeddedRemesh::GetSurfaceSizeFactorUsed() const
+double vtkEmbeddedRemesh::GetSurfaceSizeFactorUsed(bool twoDimensional) const
 {
   if (this->SurfaceSizeFactor > 0.0)
   {
     return this->SurfaceSizeFactor;
   }
-  return this->LayerType == PRISMS ? 1.0 : 0.2;
+  if (this->LayerType == PRISMS)
+  {
+    return 1.0;
+  }
+  // In 3-D the refill gets free points a regular tetrahedron's height off S
+  // (ar::CavityOptions::OffsetPointSpacing), which make the cells on S as
+  // fine across it as along: 0.21 there reaches what 0.2 did without them
+  // with a margin (SurfaceSizeRatio 0.28-0.31 instead of 0.31-0.345) and as
+  // many nodes.
+  return twoDimensional ? 0.2 : 0.21;
 }
 
 //------------------------------------------------------------------------------

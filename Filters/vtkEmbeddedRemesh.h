@@ -21,11 +21,15 @@
  *    (CGAL isotropic remeshing). 0 (the default) sets it relative to the
  *    input's local size at S, the paper's clustering: SurfaceSizeFactor
  *    times h_S, the median over S's points of the longest edge of V at the
- *    nearest node of V (the paper's l); the automatic factor is 0.2 for
- *    tetrahedra and 1 with prism layers (which refine across S). A factor
- *    below 1 refines across the feature; the refill grades the size back to
- *    the input's through the cavity, whose radius RemovalFactor *
- *    max(l_si, l_vj) follows the input's size, so it holds the grading.
+ *    nearest node of V (the paper's l); the automatic factor is 0.21 for
+ *    tetrahedra (0.2 in 2-D) and 1 with prism layers (which refine across
+ *    S). A factor below 1 refines across the feature; the refill grades the
+ *    size back to the input's through the cavity, whose radius
+ *    RemovalFactor * max(l_si, l_vj) follows the input's size, so it holds
+ *    the grading. In 3-D the refill is given free points a regular
+ *    tetrahedron's height off S on both sides (ar::CavityOptions::
+ *    OffsetPointSpacing), so that the cells on S are as fine across it as
+ *    along it.
  * 2. LOCAL_CAVITY (default): a node V_j is removed if it lies within
  *    RemovalFactor * max(l_si, l_vj) of a node S_i and, with VisibilityTest,
  *    no boundary face of V lies between them. The tetrahedra touching removed
@@ -223,15 +227,18 @@ public:
   vtkSetMacro(SurfaceEdgeLength, double);
   vtkGetMacro(SurfaceEdgeLength, double);
   /// With SurfaceEdgeLength 0: S's edge length in units of the input's local
-  /// size at S. 0 (the default) is automatic: 0.2 with tetrahedra (the new
-  /// cells at S at least 3x finer than the input's, measured by
-  /// SurfaceSizeRatio: 0.26-0.33 on ten OpenFOAM solutions), 1 with prism layers (the layers refine
-  /// across S; along it the input's size is kept, the paper's anisotropic
-  /// cells). Not clamped: outside [0, 10] it is refused with an error naming it.
+  /// size at S. 0 (the default) is automatic: with tetrahedra 0.21 in 3-D
+  /// and 0.2 in 2-D (the new cells at S at least 3x finer than the input's,
+  /// measured by SurfaceSizeRatio: 0.27-0.31 on the eight 3-D OpenFOAM
+  /// solutions of the validation matrix, 0.26 on the 2-D ones), 1 with prism
+  /// layers (the layers refine across S; along it the input's size is kept,
+  /// the paper's anisotropic cells). Not clamped: outside [0, 10] it is
+  /// refused with an error naming it.
   vtkSetMacro(SurfaceSizeFactor, double);
   vtkGetMacro(SurfaceSizeFactor, double);
-  /// The factor a run uses: SurfaceSizeFactor, or the automatic one.
-  double GetSurfaceSizeFactorUsed() const;
+  /// The factor a run uses: SurfaceSizeFactor, or the automatic one (for a
+  /// one-cell-deep input, which is remeshed in 2-D, `twoDimensional`).
+  double GetSurfaceSizeFactorUsed(bool twoDimensional = false) const;
   vtkSetMacro(RemovalFactor, double);
   vtkGetMacro(RemovalFactor, double);
   vtkSetMacro(VisibilityTest, bool);

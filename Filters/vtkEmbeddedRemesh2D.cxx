@@ -516,7 +516,7 @@ bool Remesh2DRun::Curve()
   }
   inputSize = vtkEmbeddedRemeshInputSizeAt(section.Points.data(),
     static_cast<vtkIdType>(frontPoint.size()), 2, lv, nullptr, cutPoints.data(), cutPoints.size() / 2);
-  edge = self->GetSurfaceEdgeLength() > 0.0 ? self->GetSurfaceEdgeLength() : self->GetSurfaceSizeFactorUsed() * inputSize;
+  edge = self->GetSurfaceEdgeLength() > 0.0 ? self->GetSurfaceEdgeLength() : self->GetSurfaceSizeFactorUsed(true) * inputSize;
   if (!(edge > 0.0))
   {
     return this->Fail("Could not find the mesh size near the feature curve; set SurfaceEdgeLength.");

@@ -446,7 +446,7 @@ bool vtkEmbeddedRemeshJobFits(vtkEmbeddedRemesh* self, int dimension, double ext
   }
   else
   {
-    who << "SurfaceSizeFactor is " << self->GetSurfaceSizeFactorUsed() << " (S's edge length "
+    who << "SurfaceSizeFactor is " << self->GetSurfaceSizeFactorUsed(dimension == 2) << " (S's edge length "
         << edge << ", the input's size at S " << inputSize << " times it)";
   }
   const char* what = dimension == 3 ? "the feature surface" : "the feature curve";

@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <unordered_map>
 #include <numeric>
 #include <sstream>
 
@@ -286,6 +287,7 @@ private:
   bool CheckSelfIntersection();
   bool MarkRemovedNodes();
   void AddSeparator(bool wanted);
+  void AddOffsetPoints();
   std::size_t CloseOverGroups();
   bool MarkCavity();
   void BuildCavityBoundary();
@@ -351,7 +353,8 @@ private:
   std::vector<double> nodeSize;
   std::int64_t nBoundaryNodes = 0;
   std::size_t nShell = 0;
-  std::size_t separatorPoints = 0;       // the last points of the complex: the separator's own (AddSeparator)
+  std::size_t separatorPoints = 0;       // the separator's own points (AddSeparator), after S's
+  std::size_t offsetPoints = 0;          // the last points of the complex: off S, free (AddOffsetPoints)
   std::vector<std::int64_t> keptBeyond; // per complex triangle: the kept cell beyond it, or -1
   TetGenResult refill;
   PrismStack stack;                      // the layer stack (options.Layers on)
@@ -401,6 +404,7 @@ bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
       return false;
     }
     AddSeparator(separator);
+    AddOffsetPoints();
     AddHolePoints();
     if (!Refill())
     {
@@ -419,11 +423,11 @@ bool CavityRun::Execute(std::vector<std::uint8_t>* removedOnly)
     // Slivers at TetGen's own points, which its -O2 smoothing left (a 9.07
     // degree tetrahedron of two kept and two new points on the 5e6 cube):
     // those points move within their stars. The complex's points stay, but
-    // for the separator's own (the last of the complex): the strip only
-    // splits the refill, it is no surface of the output. First, so that a
-    // sliver the moves mend does not cost a refill.
+    // for the separator's own and the free points off S (the last of the
+    // complex): the strip only splits the refill, it is no surface of the
+    // output. First, so that a sliver the moves mend does not cost a refill.
     SmoothFreePointsAtSlivers(
-      refill.Mesh, plc.Points.size() / 3 - separatorPoints, SliverAngle(), 4, static_cast<int>(Threads()),
+      refill.Mesh, plc.Points.size() / 3 - separatorPoints - offsetPoints, SliverAngle(), 4, static_cast<int>(Threads()),
       options.MinStepLength);
     // Slivers still there with three kept nodes: grow the cavity there.
     if (attempt == 2 || !GrowAtSlivers())
@@ -1293,6 +1297,142 @@ void CavityRun::AddSeparator(bool wanted)
   separatorPoints = added.size() / 3;
 }
 
+// Free points off S on both sides, a regular tetrahedron's height above the
+// centroids of S's triangles, at least OffsetPointSpacing mean edges apart
+// (see CavityOptions). Appended to the complex after every other point.
+void CavityRun::AddOffsetPoints()
+{
+  offsetPoints = 0;
+  const double spacing = options.OffsetPointSpacing;
+  const std::size_t nTri = sTris.size() / 3;
+  if (layers || !(spacing > 0.0) || nTri == 0)
+  {
+    return;
+  }
+  const double heightFactor = std::sqrt(2.0 / 3.0); // a regular tetrahedron's apex over its base's centroid
+  // Candidates, two per triangle (+ side, then - side).
+  std::vector<double> candidate(6 * nTri), reach(nTri, 0.0), height(nTri, 0.0);
+  for (std::size_t t = 0; t < nTri; ++t)
+  {
+    const double* a = &sPoints[3 * sTris[3 * t]];
+    const double* b = &sPoints[3 * sTris[3 * t + 1]];
+    const double* c = &sPoints[3 * sTris[3 * t + 2]];
+    const double n[3] = { (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
+      (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
+      (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) };
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(length > 0.0))
+    {
+      continue; // reach 0: no candidate
+    }
+    const double mean = (Distance(a, b) + Distance(b, c) + Distance(c, a)) / 3.0;
+    reach[t] = spacing * mean;
+    height[t] = heightFactor * mean;
+    for (int side = 0; side < 2; ++side)
+    {
+      const double h = (side == 0 ? height[t] : -height[t]) / length;
+      for (int d = 0; d < 3; ++d)
+      {
+        candidate[6 * t + 3 * side + d] = (a[d] + b[d] + c[d]) / 3.0 + h * n[d];
+      }
+    }
+  }
+  // In triangle order, a candidate stays when no earlier one is within the
+  // larger of their spacings (a hash grid of cells as wide as the largest).
+  const double cell = *std::max_element(reach.begin(), reach.end());
+  if (!(cell > 0.0))
+  {
+    return;
+  }
+  struct KeyHash
+  {
+    std::size_t operator()(const std::array<std::int64_t, 3>& k) const
+    {
+      return static_cast<std::size_t>(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791);
+    }
+  };
+  std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::size_t>, KeyHash> grid;
+  std::vector<std::size_t> spaced; // candidate indices
+  auto key = [&](const double* x) {
+    return std::array<std::int64_t, 3>{ static_cast<std::int64_t>(std::floor(x[0] / cell)),
+      static_cast<std::int64_t>(std::floor(x[1] / cell)), static_cast<std::int64_t>(std::floor(x[2] / cell)) };
+  };
+  for (std::size_t i = 0; i < 2 * nTri; ++i)
+  {
+    if (!(reach[i / 2] > 0.0))
+    {
+      continue;
+    }
+    const double* x = &candidate[3 * i];
+    const std::array<std::int64_t, 3> k = key(x);
+    bool free = true;
+    for (std::int64_t d0 = -1; d0 <= 1 && free; ++d0)
+    {
+      for (std::int64_t d1 = -1; d1 <= 1 && free; ++d1)
+      {
+        for (std::int64_t d2 = -1; d2 <= 1 && free; ++d2)
+        {
+          const auto it = grid.find({ k[0] + d0, k[1] + d1, k[2] + d2 });
+          if (it == grid.end())
+          {
+            continue;
+          }
+          for (const std::size_t q : it->second)
+          {
+            if (Distance(x, &candidate[3 * q]) < std::max(reach[i / 2], reach[q / 2]))
+            {
+              free = false;
+              break;
+            }
+          }
+        }
+      }
+    }
+    if (free)
+    {
+      grid[k].push_back(i);
+      spaced.push_back(i);
+    }
+  }
+  // Clear of the rest of the complex: no other face within a box of
+  // half-width h around the point (it holds the segment from the centroid
+  // out to the point), no S triangle within half-width 0.55 h (a plane S at
+  // distance h stays outside such a box: 0.55 sqrt(3) < 1; a concave S or
+  // another piece closer than 0.55 h does not).
+  std::vector<Triangle> others, surface;
+  for (std::size_t t = 0; 3 * t < plc.Triangles.size(); ++t)
+  {
+    const std::int64_t* f = &plc.Triangles[3 * t];
+    (plc.TriangleMarkers[t] == 2 ? surface : others)
+      .emplace_back(P(&plc.Points[3 * f[0]]), P(&plc.Points[3 * f[1]]), P(&plc.Points[3 * f[2]]));
+  }
+  const Tree othersTree(others.begin(), others.end()), surfaceTree(surface.begin(), surface.end());
+  std::vector<char> clear(spaced.size(), 0);
+  ParallelFor(
+    spaced.size(),
+    [&](std::size_t first, std::size_t last) {
+      for (std::size_t k = first; k < last; ++k)
+      {
+        const std::size_t i = spaced[k];
+        const Point x = P(&candidate[3 * i]);
+        const double h = height[i / 2];
+        clear[k] = !AnyWithin(othersTree, x, h) && !AnyWithin(surfaceTree, x, 0.55 * h) ? 1 : 0;
+      }
+    },
+    Threads(), 2000);
+  for (std::size_t k = 0; k < spaced.size(); ++k)
+  {
+    if (clear[k])
+    {
+      const std::size_t i = spaced[k];
+      const std::int64_t* f = &sTris[3 * (i / 2)];
+      plc.Points.insert(plc.Points.end(), &candidate[3 * i], &candidate[3 * i] + 3);
+      nodeSize.push_back((sSize[f[0]] + sSize[f[1]] + sSize[f[2]]) / 3.0);
+      ++offsetPoints;
+    }
+  }
+}
+
 void CavityRun::AddHolePoints()
 {
   // One hole point per patch of kept faces on the cavity's boundary (kept
@@ -1476,7 +1616,22 @@ void CavityRun::Assemble()
   // TetGen's own points come after the complex's boundary nodes and the
   // stack's outer nodes.
   const std::size_t firstSteiner = static_cast<std::size_t>(nBoundaryNodes) + (layers ? stackOuter.size() : 0);
-  const std::size_t nOutPoints = keptPoints + nStack + (nRefillPoints - std::min(nRefillPoints, firstSteiner));
+  // Free points of the complex TetGen did not use (AddOffsetPoints' outside
+  // the region of their piece) are left out.
+  std::vector<char> refillUsed(nRefillPoints, offsetPoints > 0 ? 0 : 1);
+  if (offsetPoints > 0)
+  {
+    for (std::int64_t v : refill.Mesh.Tetrahedra)
+    {
+      refillUsed[v] = 1;
+    }
+  }
+  std::size_t nSteiner = 0;
+  for (std::size_t k = firstSteiner; k < nRefillPoints; ++k)
+  {
+    nSteiner += refillUsed[k] ? 1 : 0;
+  }
+  const std::size_t nOutPoints = keptPoints + nStack + nSteiner;
   const std::size_t keptTets =
     nT - static_cast<std::size_t>(std::count_if(cavity.begin(), cavity.end(), [](char c) { return c != 0; }));
   const std::size_t nOutTets =
@@ -1525,6 +1680,10 @@ void CavityRun::Assemble()
   }
   for (std::size_t k = firstSteiner; k < nRefillPoints; ++k)
   {
+    if (!refillUsed[k])
+    {
+      continue;
+    }
     refillIndex[k] = static_cast<std::int64_t>(out.SourcePoint.size());
     out.SourcePoint.push_back(-1);
     out.Mesh.Points.insert(out.Mesh.Points.end(), &refill.Mesh.Points[3 * k], &refill.Mesh.Points[3 * k] + 3);

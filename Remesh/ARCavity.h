@@ -28,8 +28,9 @@
  * boundary by the domain's.)
  *
  * The refill: TetGen on the cavity boundary plus S (internal facets, marker
- * 2) with quality switches and a size field: l_v at the cavity's boundary
- * nodes, S's edge length at S's nodes. A hole point in each kept region next
+ * 2) and free points off S on both sides (OffsetPointSpacing) with quality
+ * switches and a size field: l_v at the cavity's boundary nodes, S's edge
+ * length at S's nodes and at the free points. A hole point in each kept region next
  * to the cavity stops TetGen from filling kept space. The refill's input is
  * put in a canonical order (cavity-boundary nodes sorted by coordinates,
  * mean edge lengths summed exactly), so the same cavity gives the same refill
@@ -121,6 +122,18 @@ struct CavityOptions
   /// shock is otherwise one piece. Smaller cavities are refilled whole (the
   /// second process does not pay for itself there).
   std::size_t SplitRefillAbove = 200000;
+  /// Refilled without layers: free points given to TetGen on both sides of
+  /// S, a regular tetrahedron's height (sqrt(2/3) of the triangle's mean
+  /// edge) above the centroids of S's triangles, kept in triangle order
+  /// where no earlier one is within this many mean edges and where neither
+  /// S (elsewhere) nor another face of the complex is within 0.6 of the
+  /// height. TetGen's size is the radius of a ball around each point that
+  /// no new point may enter, so on its own it places the first points off S
+  /// 1.1-1.7 of S's edges away: the cells across S (across the shock) were
+  /// coarser than along it. With these points the tetrahedra on S are about
+  /// regular (the longest edge at S's nodes 1.3-1.5 of the edge instead of
+  /// 1.6-1.7). 0: off.
+  double OffsetPointSpacing = 0.9;
   /// Prism layers on both sides of S (ARPrismLayers.h); NumberOfLayers = 0
   /// (the default) leaves them off and the refill is tetrahedra only. When on:
   ///  - the removal radius grows by the stack's height z_N: V_j goes when it

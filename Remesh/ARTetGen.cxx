@@ -334,6 +334,20 @@ bool MeshComplexHere(const PiecewiseLinearComplex& plc, const TetGenOptions& opt
   {
     switches.insert(switches.size() - 1, "m"); // before the final Q
   }
+  {
+    // Points on no triangle (free points to insert): TetGen drops those
+    // outside the region and would renumber the points after them; -J keeps
+    // every input point at its index (an unused one is in no tetrahedron).
+    std::vector<char> onTriangle(nPoints, 0);
+    for (std::int64_t v : plc.Triangles)
+    {
+      onTriangle[v] = 1;
+    }
+    if (std::find(onTriangle.begin(), onTriangle.end(), 0) != onTriangle.end())
+    {
+      switches.insert(switches.size() - 1, "J");
+    }
+  }
   if (!RunTetGen(in, result, switches, error))
   {
     return false;

@@ -55,7 +55,10 @@ std::string TetGenSwitches(const TetGenOptions& options);
 /// a desired edge length per point (TetGen's -m size field).
 struct PiecewiseLinearComplex
 {
-  std::vector<double> Points;          ///< x y z triples
+  /// x y z triples. A point on no triangle is a free point: TetGen inserts
+  /// it where it lies inside the region, and it keeps its index either way
+  /// (-J; one outside is in no tetrahedron of the result).
+  std::vector<double> Points;
   std::vector<std::int64_t> Triangles; ///< 3 point indices each
   std::vector<int> TriangleMarkers;    ///< one per triangle (empty: all 1)
   std::vector<double> Holes;           ///< x y z per hole point

@@ -356,6 +356,13 @@ bool Splitter::BuildPieces(std::vector<ComplexPiece>& pieces)
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return triangles[a][0] < triangles[b][0]; });
   const std::size_t nPoints = plc.Points.size() / 3;
   std::vector<std::int64_t> local(nPoints, -1);
+  // Points on no triangle (free points to insert) go to every piece whose
+  // box holds them; TetGen leaves them unused where they lie outside.
+  std::vector<char> onTriangle(nPoints, 0);
+  for (std::int64_t v : plc.Triangles)
+  {
+    onTriangle[v] = 1;
+  }
   pieces.assign(n, ComplexPiece());
   for (std::size_t p = 0; p < n; ++p)
   {
@@ -377,16 +384,31 @@ bool Splitter::BuildPieces(std::vector<ComplexPiece>& pieces)
     PiecewiseLinearComplex& c = piece.Complex;
     double lo[3] = { X(piece.Points[0])[0], X(piece.Points[0])[1], X(piece.Points[0])[2] };
     double hi[3] = { lo[0], lo[1], lo[2] };
-    for (std::size_t k = 0; k < piece.Points.size(); ++k)
+    for (const std::int64_t id : piece.Points)
     {
-      const std::int64_t id = piece.Points[k];
-      local[id] = static_cast<std::int64_t>(k);
-      c.Points.insert(c.Points.end(), X(id), X(id) + 3);
       for (int d = 0; d < 3; ++d)
       {
         lo[d] = std::min(lo[d], X(id)[d]);
         hi[d] = std::max(hi[d], X(id)[d]);
       }
+    }
+    auto inBox = [&](const double* x) {
+      return x[0] >= lo[0] && x[0] <= hi[0] && x[1] >= lo[1] && x[1] <= hi[1] && x[2] >= lo[2] && x[2] <= hi[2];
+    };
+    const std::size_t onTriangles = piece.Points.size();
+    for (std::size_t id = 0; id < nPoints; ++id)
+    {
+      if (!onTriangle[id] && inBox(X(static_cast<std::int64_t>(id))))
+      {
+        piece.Points.push_back(static_cast<std::int64_t>(id));
+      }
+    }
+    std::inplace_merge(piece.Points.begin(), piece.Points.begin() + onTriangles, piece.Points.end());
+    for (std::size_t k = 0; k < piece.Points.size(); ++k)
+    {
+      const std::int64_t id = piece.Points[k];
+      local[id] = static_cast<std::int64_t>(k);
+      c.Points.insert(c.Points.end(), X(id), X(id) + 3);
       if (!plc.PointSizes.empty())
       {
         c.PointSizes.push_back(plc.PointSizes[id]);
@@ -406,7 +428,7 @@ bool Splitter::BuildPieces(std::vector<ComplexPiece>& pieces)
     for (std::size_t h = 0; h < plc.Holes.size() / 3; ++h)
     {
       const double* x = &plc.Holes[3 * h];
-      if (x[0] >= lo[0] && x[0] <= hi[0] && x[1] >= lo[1] && x[1] <= hi[1] && x[2] >= lo[2] && x[2] <= hi[2])
+      if (inBox(x))
       {
         c.Holes.insert(c.Holes.end(), x, x + 3);
       }

@@ -48,7 +48,8 @@ struct ComplexPiece
  * The regions of `plc` to mesh (meshedSides: per triangle, MeshedSide flags)
  * as complexes of their own, ordered by their smallest triangle index: the
  * triangles bounding a region (in the whole's order; one bounding two
- * regions is in both), their points in the whole's order with their sizes,
+ * regions is in both), their points and the free points (on no triangle)
+ * within the piece's bounding box, in the whole's order with their sizes,
  * and the hole points within the piece's bounding box (the others lie
  * outside its convex hull, where TetGen ignores them: each piece carves
  * what the whole would have carved there), plus one inside each void of the

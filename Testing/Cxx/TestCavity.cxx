@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <set>
@@ -1094,4 +1095,135 @@ TEST(Cavity, LargeCavityIsRefilledInTwoPiecesThroughASeparatingStrip)
   const ar::CavityRemesh plain = Remesh(cube, TiltedPatch(), o);
   EXPECT_EQ(inner.Mesh.Points, plain.Mesh.Points);
   EXPECT_EQ(inner.Mesh.Tetrahedra, plain.Mesh.Tetrahedra);
+}
+
+namespace
+{
+/// Over S's nodes, the median of the longest edge at the node, in units of
+/// S's mean edge; and the mean distance from S's plane z = 0.5 + 0.2 (x -
+/// 0.5) - 0.1 (y - 0.5) of the fourth corner of the tetrahedra standing on
+/// S's triangles (the cells' size across S), in the same unit.
+struct AcrossS
+{
+  double LongestAtS = 0.0;
+  double HeightOnS = 0.0;
+};
+
+AcrossS MeasureAcrossTiltedPatch(const ar::CavityRemesh& r)
+{
+  const std::vector<double> lv = ar::LongestEdgeAtNodes(
+    r.Mesh.Points.data(), r.Mesh.NumberOfPoints(), r.Mesh.Tetrahedra.data(), r.Mesh.NumberOfTetrahedra());
+  double edgeSum = 0.0;
+  std::size_t edges = 0;
+  std::set<std::array<std::int64_t, 3>> onS;
+  for (std::size_t f = 0; 3 * f < r.Surface.size(); ++f)
+  {
+    std::array<std::int64_t, 3> tri = { r.Surface[3 * f], r.Surface[3 * f + 1], r.Surface[3 * f + 2] };
+    for (int k = 0; k < 3; ++k, ++edges)
+    {
+      const double* a = &r.Mesh.Points[3 * tri[k]];
+      const double* b = &r.Mesh.Points[3 * tri[(k + 1) % 3]];
+      edgeSum += std::hypot(a[0] - b[0], std::hypot(a[1] - b[1], a[2] - b[2]));
+    }
+    std::sort(tri.begin(), tri.end());
+    onS.insert(tri);
+  }
+  const double edge = edgeSum / static_cast<double>(edges);
+  const double n[3] = { -0.2, 0.1, 1.0 };
+  const double nn = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  double heightSum = 0.0;
+  std::size_t standing = 0;
+  for (std::size_t t = 0; t < r.Mesh.NumberOfTetrahedra(); ++t)
+  {
+    const std::int64_t* v = &r.Mesh.Tetrahedra[4 * t];
+    for (const auto& f : ar::TetFaceVertex)
+    {
+      std::array<std::int64_t, 3> tri = { v[f[0]], v[f[1]], v[f[2]] };
+      std::sort(tri.begin(), tri.end());
+      if (!onS.count(tri))
+        continue;
+      const std::int64_t apex = v[0] + v[1] + v[2] + v[3] - tri[0] - tri[1] - tri[2];
+      const double* x = &r.Mesh.Points[3 * apex];
+      heightSum += std::abs(n[0] * (x[0] - 0.5) + n[1] * (x[1] - 0.5) + n[2] * (x[2] - 0.5)) / nn;
+      ++standing;
+    }
+  }
+  AcrossS m;
+  m.LongestAtS = ar::MedianAtNodes(lv, r.Surface.data(), r.Surface.size()) / edge;
+  m.HeightOnS = heightSum / static_cast<double>(standing) / edge;
+  return m;
+}
+}
+
+TEST(Cavity, FreePointsOffTheSurfaceMakeTheCellsOnItAsFineAcrossAsAlong)
+{
+  // TetGen's size is the radius of a ball no new point may enter: on its
+  // own it stands the tetrahedra on S on apices far off S. The free points
+  // a regular tetrahedron's height off S (sqrt(2/3) = 0.82 of the edge)
+  // bring them down to about that height.
+  const ar::TetMesh cube = KuhnCube(12);
+  const Surface s = TiltedPatch();
+  ar::CavityOptions without;
+  without.OffsetPointSpacing = 0.0;
+  const ar::CavityRemesh plain = Remesh(cube, s, without);
+  const ar::CavityRemesh r = Remesh(cube, s);
+  ExpectValid(cube, r);
+  EXPECT_GE(MinNewDihedral(r), 10.0);
+  const AcrossS before = MeasureAcrossTiltedPatch(plain), after = MeasureAcrossTiltedPatch(r);
+  std::printf("without free points: longest edge at S %.3f, height on S %.3f (S's mean edge); with: %.3f, %.3f\n",
+    before.LongestAtS, before.HeightOnS, after.LongestAtS, after.HeightOnS);
+  EXPECT_LT(after.HeightOnS, 0.85 * before.HeightOnS);
+  EXPECT_LT(after.LongestAtS, 0.9 * before.LongestAtS);
+  // Every point of the output is a corner of some tetrahedron (free points
+  // TetGen did not use are left out).
+  std::vector<char> used(r.Mesh.NumberOfPoints(), 0);
+  for (std::int64_t v : r.Mesh.Tetrahedra)
+    used[v] = 1;
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
+  EXPECT_EQ(r.SourcePoint.size(), r.Mesh.NumberOfPoints());
+}
+
+TEST(RefillPieces, FreePointsKeepTheirIndexAndGoToThePieceThatHoldsThem)
+{
+  // Three free points after the complex's own: one outside every piece
+  // (beyond the cube), one below S, one above it. -J keeps each at its
+  // index; the one outside is in no tetrahedron, each other in those of its
+  // own side.
+  CubeComplex c = KuhnCubeComplex(6, [](double, double) { return true; });
+  const std::size_t first = c.Plc.Points.size() / 3;
+  const double extra[9] = { 1.5, 0.5, 0.5, 0.41, 0.53, 0.29, 0.47, 0.38, 0.71 };
+  c.Plc.Points.insert(c.Plc.Points.end(), extra, extra + 9);
+  c.Plc.PointSizes.insert(c.Plc.PointSizes.end(), 3, 1.0 / 6.0);
+  const ar::TetGenOptions quality = ar::CavityOptions().Quality;
+  for (const unsigned processes : { 1u, 2u })
+  {
+    ar::TetGenResult r;
+    std::string error;
+    ASSERT_TRUE(ar::TetGenMeshComplexInPieces(c.Plc, c.Meshed, quality, processes, r, error)) << error;
+    EXPECT_EQ(r.Pieces, 2u);
+    ExpectValidRefill(c, r);
+    std::vector<double> side(3, 0.0); // per free point: the sum of z - 0.5 over its tetrahedra's centroids
+    std::vector<int> count(3, 0);
+    for (std::size_t t = 0; t < r.Mesh.NumberOfTetrahedra(); ++t)
+    {
+      const std::int64_t* v = &r.Mesh.Tetrahedra[4 * t];
+      double z = 0.0;
+      for (int k = 0; k < 4; ++k)
+        z += 0.25 * r.Mesh.Points[3 * v[k] + 2];
+      for (int k = 0; k < 4; ++k)
+        if (v[k] >= static_cast<std::int64_t>(first) && v[k] < static_cast<std::int64_t>(first + 3))
+        {
+          ++count[v[k] - first];
+          EXPECT_EQ(z < 0.5, v[k] == static_cast<std::int64_t>(first + 1)) << "free point " << v[k] - first;
+        }
+    }
+    EXPECT_EQ(count[0], 0) << "the point outside the cube is in no tetrahedron";
+    EXPECT_GT(count[1], 0);
+    EXPECT_GT(count[2], 0);
+  }
+  // The whole complex at once (one TetGen run): the same indices.
+  ar::TetGenResult whole;
+  std::string error;
+  ASSERT_TRUE(ar::TetGenMeshComplex(c.Plc, quality, whole, error)) << error;
+  ExpectValidRefill(c, whole);
 }

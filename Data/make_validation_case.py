@@ -244,10 +244,10 @@ CASES = {
                       end=0.6, write=0.1, maxco=0.3),
     "wedge8Ma5o1": dict(_WEDGE10, mach=5.0, angle=8.0, height=0.14, end=0.5, write=0.05, order=1),
     # Added on 7 December: a Mach 3 wedge of 15 degrees on tetrahedra, a slab
-    # 0.15 deep. Not in the CTest matrix: AdaptToShocks's new cells at the
-    # shock are 0.345 of the input's size (SurfaceSizeRatio; the target is
-    # 1/3, see the README's validation section) and its prism-layer closure
-    # tetrahedra 4.7 degrees (the floor 5); its plane and the rest pass.
+    # 0.15 deep. Not in the CTest matrix: its prism-layer closure tetrahedra
+    # are 4.7 degrees (the floor 5); its plane and the rest pass (the new
+    # cells at the shock 0.31 of the input's size since the refill's free
+    # points off S, 0.345 before; see the README's validation section).
     # Steady at endTime 0.3 (rms dp 0.011 % between the last writes; 100 s).
     "wedge15Ma3tet": dict(kind="wedge", mesher="gmsh3d", mach=3.0, angle=15.0, order=2,
                           x0=-0.1, x1=0.3, height=0.22, span=0.15,
@@ -263,6 +263,19 @@ CASES = {
                         x0=-0.1, x1=1.0, radius=1.1,
                         band=(28.5, 46.5), h0=0.018, h1=0.03, grow=0.25, hmax=0.1,
                         end=1.5, write=0.1, maxco=0.3),
+    # Added after the refill's free points off S, to try them on 3-D cases
+    # nobody had looked at: a Mach 2.5 wedge of 20 degrees on tetrahedra (a
+    # slab 0.12 deep; steady at 0.8, not at 0.4: rms dp 0.72 % between the
+    # last writes; too thin for prism layers, see TestValidationCase), a
+    # Mach 4 cone of 20 degrees.
+    "wedge20Ma2p5tet": dict(kind="wedge", mesher="gmsh3d", mach=2.5, angle=20.0, order=2,
+                            x0=-0.1, x1=0.3, height=0.35, span=0.12,
+                            hmin=0.007, hmax=0.02, dgrow=0.1,
+                            end=0.8, write=0.1, maxco=0.3),
+    "cone20Ma4": dict(kind="cone", mesher="gmsh3d", mach=4.0, angle=20.0, order=2,
+                      x0=-0.1, x1=1.0, radius=0.7,
+                      band=(18.5, 33.0), h0=0.015, h1=0.02, grow=0.25, hmax=0.08,
+                      end=0.8, write=0.1, maxco=0.3),
 }
 
 

@@ -195,10 +195,13 @@ _WEDGE10 = dict(kind="wedge", mesher="blockMesh", mach=3.0, angle=10.0,
                 x0=-0.15, x1=0.3, height=0.2, span=0.01,
                 nx=(30, 70), ny=70, grade_x=2.5, grade_y=3.0,
                 end=0.75, write=0.05, maxco=0.2)
-_CONE15 = dict(kind="cone", mesher="gmsh3d", mach=3.0, angle=15.0,
-               x0=-0.1, x1=1.0, radius=0.6,
-               band=(13.5, 29.0), h0=0.016, h1=0.016, grow=0.25, hmax=0.08,
-               end=0.8, write=0.1, maxco=0.3)
+# Gmsh tetrahedra, second order unless a case says otherwise: a cone from
+# x0 to x1 (band: the polar angles, degrees, of the finer cells about the
+# shock, h0 at the tip to h1 at x1), and a wedge in a slab `span` deep.
+_TET_CONE = dict(kind="cone", mesher="gmsh3d", order=2, x0=-0.1, x1=1.0, grow=0.25, maxco=0.3)
+_TET_WEDGE = dict(kind="wedge", mesher="gmsh3d", order=2, x0=-0.1, x1=0.3, maxco=0.3)
+_CONE15 = dict(_TET_CONE, mach=3.0, angle=15.0, radius=0.6,
+               band=(13.5, 29.0), h0=0.016, h1=0.016, hmax=0.08, end=0.8, write=0.1)
 # Local time stepping (--lts): rhoCentralFoam's steady mode, ddtSchemes
 # localEuler.  Every cell steps with its own time step at maxCo (the case's
 # times `maxco`; the reciprocal smoothed so that neighbours differ by at most
@@ -215,15 +218,11 @@ CASES = {
                           x0=-0.15, x1=0.3, height=0.25, span=0.01,
                           hmin=0.003, hmax=0.009, dgrow=0.12,
                           end=0.6, write=0.05, maxco=0.2),
-    "wedge12Ma6tet": dict(kind="wedge", mesher="gmsh3d", mach=6.0, angle=12.0, order=2,
-                          x0=-0.1, x1=0.3, height=0.14, span=0.06,
-                          hmin=0.0052, hmax=0.0125, dgrow=0.08,
-                          end=0.125, write=0.025, maxco=0.3),
+    "wedge12Ma6tet": dict(_TET_WEDGE, mach=6.0, angle=12.0, height=0.14, span=0.06,
+                          hmin=0.0052, hmax=0.0125, dgrow=0.08, end=0.125, write=0.025),
     "cone15Ma3": dict(_CONE15, order=2),
-    "cone25Ma2": dict(kind="cone", mesher="gmsh3d", mach=2.0, angle=25.0, order=2,
-                      x0=-0.1, x1=1.0, radius=1.1,
-                      band=(23.5, 46.0), h0=0.018, h1=0.03, grow=0.25, hmax=0.1,
-                      end=2.0, write=0.1, maxco=0.3),
+    "cone25Ma2": dict(_TET_CONE, mach=2.0, angle=25.0, radius=1.1,
+                      band=(23.5, 46.0), h0=0.018, h1=0.03, hmax=0.1, end=2.0, write=0.1),
     "cylinderMa3": dict(kind="cylinder", mesher="blockMesh", mach=3.0, order=2,
                         radius=0.5, span=0.01, margin=(0.15, 0.1),
                         blocks=5, n_normal=90, n_along=110, grade_normal=3.0,
@@ -238,10 +237,8 @@ CASES = {
                             x0=-0.15, x1=0.3, height=0.33, span=0.01,
                             hmin=0.003, hmax=0.009, dgrow=0.12,
                             end=1.0, write=0.05, maxco=0.2),
-    "cone10Ma4": dict(kind="cone", mesher="gmsh3d", mach=4.0, angle=10.0, order=2,
-                      x0=-0.1, x1=1.0, radius=0.45,
-                      band=(8.5, 21.5), h0=0.013, h1=0.015, grow=0.25, hmax=0.07,
-                      end=0.6, write=0.1, maxco=0.3),
+    "cone10Ma4": dict(_TET_CONE, mach=4.0, angle=10.0, radius=0.45,
+                      band=(8.5, 21.5), h0=0.013, h1=0.015, hmax=0.07, end=0.6, write=0.1),
     "wedge8Ma5o1": dict(_WEDGE10, mach=5.0, angle=8.0, height=0.14, end=0.5, write=0.05, order=1),
     # Added on 7 December: a Mach 3 wedge of 15 degrees on tetrahedra, a slab
     # 0.15 deep. Not in the CTest matrix: its prism-layer closure tetrahedra
@@ -249,33 +246,23 @@ CASES = {
     # cells at the shock 0.31 of the input's size since the refill's free
     # points off S, 0.345 before; see the README's validation section).
     # Steady at endTime 0.3 (rms dp 0.011 % between the last writes; 100 s).
-    "wedge15Ma3tet": dict(kind="wedge", mesher="gmsh3d", mach=3.0, angle=15.0, order=2,
-                          x0=-0.1, x1=0.3, height=0.22, span=0.15,
-                          hmin=0.008, hmax=0.02, dgrow=0.1,
-                          end=0.3, write=0.05, maxco=0.3),
+    "wedge15Ma3tet": dict(_TET_WEDGE, mach=3.0, angle=15.0, height=0.22, span=0.15,
+                          hmin=0.008, hmax=0.02, dgrow=0.1, end=0.3, write=0.05),
     # Added on 7 December after the Rankine-Hugoniot centring, to try it on
     # cones nobody had looked at: Mach 3.5 at 12 degrees, Mach 2.5 at 30.
-    "cone12Ma3p5": dict(kind="cone", mesher="gmsh3d", mach=3.5, angle=12.0, order=2,
-                        x0=-0.1, x1=1.0, radius=0.5,
-                        band=(10.5, 24.0), h0=0.014, h1=0.016, grow=0.25, hmax=0.08,
-                        end=0.6, write=0.1, maxco=0.3),
-    "cone30Ma2p5": dict(kind="cone", mesher="gmsh3d", mach=2.5, angle=30.0, order=2,
-                        x0=-0.1, x1=1.0, radius=1.1,
-                        band=(28.5, 46.5), h0=0.018, h1=0.03, grow=0.25, hmax=0.1,
-                        end=1.5, write=0.1, maxco=0.3),
+    "cone12Ma3p5": dict(_TET_CONE, mach=3.5, angle=12.0, radius=0.5,
+                        band=(10.5, 24.0), h0=0.014, h1=0.016, hmax=0.08, end=0.6, write=0.1),
+    "cone30Ma2p5": dict(_TET_CONE, mach=2.5, angle=30.0, radius=1.1,
+                        band=(28.5, 46.5), h0=0.018, h1=0.03, hmax=0.1, end=1.5, write=0.1),
     # Added after the refill's free points off S, to try them on 3-D cases
     # nobody had looked at: a Mach 2.5 wedge of 20 degrees on tetrahedra (a
     # slab 0.12 deep; steady at 0.8, not at 0.4: rms dp 0.72 % between the
     # last writes; too thin for prism layers, see TestValidationCase), a
     # Mach 4 cone of 20 degrees.
-    "wedge20Ma2p5tet": dict(kind="wedge", mesher="gmsh3d", mach=2.5, angle=20.0, order=2,
-                            x0=-0.1, x1=0.3, height=0.35, span=0.12,
-                            hmin=0.007, hmax=0.02, dgrow=0.1,
-                            end=0.8, write=0.1, maxco=0.3),
-    "cone20Ma4": dict(kind="cone", mesher="gmsh3d", mach=4.0, angle=20.0, order=2,
-                      x0=-0.1, x1=1.0, radius=0.7,
-                      band=(18.5, 33.0), h0=0.015, h1=0.02, grow=0.25, hmax=0.08,
-                      end=0.8, write=0.1, maxco=0.3),
+    "wedge20Ma2p5tet": dict(_TET_WEDGE, mach=2.5, angle=20.0, height=0.35, span=0.12,
+                            hmin=0.007, hmax=0.02, dgrow=0.1, end=0.8, write=0.1),
+    "cone20Ma4": dict(_TET_CONE, mach=4.0, angle=20.0, radius=0.7,
+                      band=(18.5, 33.0), h0=0.015, h1=0.02, hmax=0.08, end=0.8, write=0.1),
 }
 
 

@@ -1425,10 +1425,10 @@ bool FitRun::Refit(const std::vector<std::vector<double>>& values, const std::ve
     const bool unit = std::abs(normals[3 * j] * normals[3 * j] + normals[3 * j + 1] * normals[3 * j + 1] +
                                normals[3 * j + 2] * normals[3 * j + 2] - 1.0) < 1e-6;
     double width = -1.0;
-    const std::function<double(int)> top = [&](int k) { return RankineHugoniotTop(values, j, k); };
     const bool okj = unit &&
       HalfJumpOffset(&values[centringIndex][j * samples], CentringReach, offset, &width,
-        jumpOf >= 0 ? top : nullptr);
+        jumpOf >= 0 ? std::function<double(int)>([&](int k) { return RankineHugoniotTop(values, j, k); })
+                    : std::function<double(int)>());
     if (!okj)
     {
       continue;

@@ -1314,27 +1314,24 @@ void CavityRun::AddOffsetPoints()
   std::vector<double> candidate(6 * nTri), reach(nTri, 0.0), height(nTri, 0.0);
   for (std::size_t t = 0; t < nTri; ++t)
   {
-    const double* a = &sPoints[3 * sTris[3 * t]];
-    const double* b = &sPoints[3 * sTris[3 * t + 1]];
-    const double* c = &sPoints[3 * sTris[3 * t + 2]];
-    const double n[3] = { (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
-      (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
-      (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) };
-    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const Point a = P(&sPoints[3 * sTris[3 * t]]), b = P(&sPoints[3 * sTris[3 * t + 1]]),
+                c = P(&sPoints[3 * sTris[3 * t + 2]]);
+    const Kernel::Vector_3 n = CGAL::cross_product(b - a, c - a);
+    const double length = std::sqrt(n.squared_length());
     if (!(length > 0.0))
     {
       continue; // reach 0: no candidate
     }
-    const double mean = (Distance(a, b) + Distance(b, c) + Distance(c, a)) / 3.0;
+    const double mean =
+      (std::sqrt(CGAL::squared_distance(a, b)) + std::sqrt(CGAL::squared_distance(b, c)) +
+        std::sqrt(CGAL::squared_distance(c, a))) / 3.0;
     reach[t] = spacing * mean;
     height[t] = heightFactor * mean;
+    const Point centroid = CGAL::centroid(a, b, c);
     for (int side = 0; side < 2; ++side)
     {
-      const double h = (side == 0 ? height[t] : -height[t]) / length;
-      for (int d = 0; d < 3; ++d)
-      {
-        candidate[6 * t + 3 * side + d] = (a[d] + b[d] + c[d]) / 3.0 + h * n[d];
-      }
+      const Point x = centroid + n * ((side == 0 ? height[t] : -height[t]) / length);
+      std::copy(x.cartesian_begin(), x.cartesian_end(), &candidate[6 * t + 3 * side]);
     }
   }
   // In triangle order, a candidate stays when no earlier one is within the

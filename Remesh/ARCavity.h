@@ -124,10 +124,11 @@ struct CavityOptions
   std::size_t SplitRefillAbove = 200000;
   /// Refilled without layers: free points given to TetGen on both sides of
   /// S, a regular tetrahedron's height (sqrt(2/3) of the triangle's mean
-  /// edge) above the centroids of S's triangles, kept in triangle order
-  /// where no earlier one is within this many mean edges and where neither
-  /// S (elsewhere) nor another face of the complex is within 0.6 of the
-  /// height. TetGen's size is the radius of a ball around each point that
+  /// edge h) above the centroids of S's triangles, kept in triangle order
+  /// where no earlier one is within this many mean edges, no other face of
+  /// the complex meets a box of half-width h about it (the box holds the
+  /// segment out from the centroid) and no S triangle one of half-width
+  /// 0.55 h (a plane S at distance h does not: 0.55 sqrt(3) < 1). TetGen's size is the radius of a ball around each point that
   /// no new point may enter, so on its own it places the first points off S
   /// 1.1-1.7 of S's edges away: the cells across S (across the shock) were
   /// coarser than along it. With these points the tetrahedra on S are about

@@ -88,7 +88,6 @@ CASE_TOLERANCE = {"wedge12Ma6tet": 0.7, "wedge15Ma3tet": 0.7}
 # case. (cone15Ma3o1 had 0.8 while its own shock was measured at
 # Taylor-Maccoll's half-jump: 0.65 degree outside its surface; at its own
 # jump, own_jump_angle, 0.34.)
-OWN_SHOCK_TOLERANCE = {}
 # The prism-layer variant: the 3-D cases with room for the stack, and the
 # smallest angle asked of the layer cells (the closure's tetrahedra, see above).
 NO_PRISM_CASES = {"wedge12Ma6tet", "wedge20Ma2p5tet"}
@@ -278,11 +277,10 @@ else:
     theory = f(src, "ShockAngleTaylorMaccoll")
     angle, own, used = cone_angles(src, surf) if template == "Cone" else (np.nan, np.nan, 0)
     expected = "Cone"
-    own_tolerance = OWN_SHOCK_TOLERANCE.get(case, ANGLE_TOLERANCE)
-    check(template == expected and abs(angle - own) <= own_tolerance,
+    check(template == expected and abs(angle - own) <= ANGLE_TOLERANCE,
           "%s: the fitted surface (%d points) at %.2f deg about the cone's axis, the solution's own shock at %.2f "
           "(%+.2f; at most %.1f); the free cone's HalfAngle %.2f (theory %.2f)"
-          % (case, used, angle, own, angle - own, own_tolerance,
+          % (case, used, angle, own, angle - own, ANGLE_TOLERANCE,
              f(surf, "HalfAngle") if template == "Cone" else np.nan, theory))
 if "CylinderRadius" not in src.FieldData.keys():
     check(template == expected and abs(angle - theory) <= tolerance,

@@ -182,15 +182,17 @@ void ClearPinches(const std::int64_t* tris, std::size_t nPoints, std::size_t nTr
 
 /// The triangles t of `tris` (3 node ids each) with use(t) joined where they
 /// share an edge; with `border`, the nodes of the edges only one of them uses
-/// flagged there.
+/// flagged there. With `manifoldOnly`, only across edges that no other
+/// triangle of `tris` shares.
 template <typename Use>
-UnionFind JoinByEdges(const std::int64_t* tris, std::size_t nTris, Use use, std::vector<char>* border)
+UnionFind JoinByEdges(
+  const std::int64_t* tris, std::size_t nTris, Use use, std::vector<char>* border, bool manifoldOnly = false)
 {
   std::vector<std::array<std::int64_t, 3>> edges; // (lower node, higher node, triangle)
   edges.reserve(3 * nTris);
   for (std::size_t t = 0; t < nTris; ++t)
   {
-    for (int k = 0; k < 3 && use(t); ++k)
+    for (int k = 0; k < 3 && (manifoldOnly || use(t)); ++k)
     {
       const std::int64_t a = tris[3 * t + k], b = tris[3 * t + (k + 1) % 3];
       edges.push_back({ std::min(a, b), std::max(a, b), static_cast<std::int64_t>(t) });
@@ -202,7 +204,17 @@ UnionFind JoinByEdges(const std::int64_t* tris, std::size_t nTris, Use use, std:
   {
     for (next = e + 1; next < edges.size() && edges[next][0] == edges[e][0] && edges[next][1] == edges[e][1]; ++next)
     {
-      joined.Union(edges[e][2], edges[next][2]);
+    }
+    if (!manifoldOnly)
+    {
+      for (std::size_t i = e + 1; i < next; ++i)
+      {
+        joined.Union(edges[e][2], edges[i][2]);
+      }
+    }
+    else if (next == e + 2 && use(static_cast<std::size_t>(edges[e][2])) && use(static_cast<std::size_t>(edges[e + 1][2])))
+    {
+      joined.Union(edges[e][2], edges[e + 1][2]);
     }
     if (border && next == e + 1)
     {
@@ -1433,7 +1445,11 @@ void CavityRun::AddOffsetPoints()
 void CavityRun::AddHolePoints()
 {
   // One hole point per patch of kept faces on the cavity's boundary (kept
-  // faces joined by their edges), inside the kept cell beyond the patch's
+  // faces joined across an edge where no other face of the complex meets
+  // them: at an edge with more, kept regions that touch only along that
+  // edge may meet, such as a kept tetrahedron the cavity surrounds, and each
+  // needs its own hole point, or TetGen fills it; a region split into
+  // several patches just gets several), inside the kept cell beyond the patch's
   // first face in the complex's canonical order: defined by the cavity's
   // boundary alone, whatever V's numbering or extent (the MPI driver refills
   // a gathered part of V). The first kept cell of each kept region in V's
@@ -1441,7 +1457,7 @@ void CavityRun::AddHolePoints()
   // between a serial run and a distributed one.
   const std::size_t nTriangles = keptBeyond.size();
   UnionFind patches =
-    JoinByEdges(plc.Triangles.data(), nTriangles, [&](std::size_t t) { return keptBeyond[t] >= 0; }, nullptr);
+    JoinByEdges(plc.Triangles.data(), nTriangles, [&](std::size_t t) { return keptBeyond[t] >= 0; }, nullptr, true);
   std::vector<char> holeDone(nTriangles, 0);
   for (std::size_t t = 0; t < nTriangles; ++t)
   {

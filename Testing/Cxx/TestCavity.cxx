@@ -1227,3 +1227,68 @@ TEST(RefillPieces, FreePointsKeepTheirIndexAndGoToThePieceThatHoldsThem)
   ASSERT_TRUE(ar::TetGenMeshComplex(c.Plc, quality, whole, error)) << error;
   ExpectValidRefill(c, whole);
 }
+
+TEST(Cavity, KeptTetrahedronTouchingTheRestAlongAnEdgeStaysOutOfTheRefill)
+{
+  // A cavity given cell by cell (a ball around the tilted patch) with one
+  // tetrahedron inside it kept: none of its faces meets another kept cell,
+  // but an edge of it lies on the cavity's boundary, so its faces and the
+  // kept region's meet along that edge. It needs a hole point of its own:
+  // with one for both, TetGen filled it too (faces in three cells, volume
+  // gained), as a second adaptation's cavity did around a first one's
+  // closure tetrahedra.
+  const ar::TetMesh cube = KuhnCube(12);
+  const Surface s = TiltedPatch();
+  const std::size_t nT = cube.NumberOfTetrahedra();
+  auto centroid = [&](std::size_t t, int d) {
+    double c = 0.0;
+    for (int k = 0; k < 4; ++k)
+      c += 0.25 * cube.Points[3 * cube.Tetrahedra[4 * t + k] + d];
+    return c;
+  };
+  std::vector<char> cavity(nT, 0);
+  for (std::size_t t = 0; t < nT; ++t)
+    cavity[t] = std::hypot(centroid(t, 0) - 0.5, std::hypot(centroid(t, 1) - 0.5, centroid(t, 2) - 0.5)) < 0.45;
+  std::map<std::array<std::int64_t, 3>, std::vector<std::size_t>> faceCells;
+  std::map<std::array<std::int64_t, 2>, std::vector<std::size_t>> edgeCells;
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const std::int64_t* v = &cube.Tetrahedra[4 * t];
+    for (int k = 0; k < 4; ++k)
+    {
+      std::array<std::int64_t, 3> f = { v[(k + 1) % 4], v[(k + 2) % 4], v[(k + 3) % 4] };
+      std::sort(f.begin(), f.end());
+      faceCells[f].push_back(t);
+      for (int j = k + 1; j < 4; ++j)
+        edgeCells[{ std::min(v[k], v[j]), std::max(v[k], v[j]) }].push_back(t);
+    }
+  }
+  // The kept one: in the cavity, far above S, its four neighbours in the
+  // cavity, an edge among kept cells.
+  std::int64_t keep = -1;
+  for (std::size_t t = 0; t < nT && keep < 0; ++t)
+  {
+    if (!cavity[t] || centroid(t, 2) < 0.8)
+      continue;
+    const std::int64_t* v = &cube.Tetrahedra[4 * t];
+    bool inside = true, touches = false;
+    for (int k = 0; k < 4; ++k)
+    {
+      std::array<std::int64_t, 3> f = { v[(k + 1) % 4], v[(k + 2) % 4], v[(k + 3) % 4] };
+      std::sort(f.begin(), f.end());
+      for (std::size_t u : faceCells[f])
+        inside = inside && cavity[u];
+      for (int j = k + 1; j < 4; ++j)
+        for (std::size_t u : edgeCells[{ std::min(v[k], v[j]), std::max(v[k], v[j]) }])
+          touches = touches || !cavity[u];
+    }
+    keep = inside && touches ? static_cast<std::int64_t>(t) : -1;
+  }
+  ASSERT_GE(keep, 0);
+  cavity[keep] = 0;
+  ar::CavityOptions o;
+  o.CavityCells.assign(cavity.begin(), cavity.end());
+  const ar::CavityRemesh r = Remesh(cube, s, o);
+  ExpectValid(cube, r);
+  EXPECT_EQ(std::count(r.SourceCell.begin(), r.SourceCell.end(), keep), 1) << "the kept tetrahedron is in the output";
+}

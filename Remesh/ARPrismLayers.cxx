@@ -45,6 +45,9 @@ constexpr int MaxRounds = 60;
 /// area: keeps a concave side's caps away from its focal line, where they
 /// would pinch the space left for the tetrahedra.
 constexpr double MinAreaRatio = 0.5;
+/// Each side gets its own closure groups where every border column is at
+/// least this many border edges high on both sides (NumberPoints).
+constexpr double SideGroupsAbove = 0.25;
 
 Vec At(const double* x)
 {
@@ -251,6 +254,10 @@ private:
     return Vec(0.5 * (ca + cb) + dEdge[edge] * (cb - ca).cross(nEdge[edge]).normalized());
   }
   std::int64_t edgeApex(std::int64_t e, int g) const { return firstApex + e * nGroups + g; }
+  /// The quad (w_j, w_j+1, u_j+1, u_j) between the wedge at head(e)'s rows
+  /// of groups g and g + 1 is split along w_j+1 u_j (true) instead of w_j
+  /// u_j+1: the diagonal that makes its fold convex seen from the void.
+  bool bandFlipped(std::size_t e, int g, std::size_t j) const;
   Vec x(std::int64_t i) const { return At(&out.Points[3 * i]); }
   void addTet(const std::array<std::int64_t, 4>& q, int k, std::int64_t edge1, std::int64_t edge2,
     std::int64_t point);
@@ -793,38 +800,60 @@ void LayerBuild::NumberPoints()
   // The border closure groups the layers of a column, K_0 = lo < .. < K_m =
   // hi, each group about one border edge high: one apex per group and edge,
   // so that the triangles the void sees are not needles on a tall stack.
+  // With layers on both sides, each side at the border at least
+  // SideGroupsAbove of a border edge high, each side has its own groups (S's
+  // level is a group boundary): an apex then stands at most half a side's
+  // stack from the layers it closes, not a whole side's as when one group
+  // spans both (the closure tetrahedra 5.6 -> 7.5 degrees on the validation
+  // cones). Lower stacks keep one group: the band of triangles between the
+  // two sides' rows of apices would be as low as a side, and TetGen builds
+  // thin tetrahedra against such needles.
   K = { lo };
-  if (nB > 0)
+  double meanEdge = 0.0;
+  for (double l : lEdge)
   {
-    double meanEdge = 0.0;
-    for (double l : lEdge)
+    meanEdge += l / static_cast<double>(nB);
+  }
+  bool perSide = o.BothSides && nB > 0;
+  for (const std::int64_t he : borderEdges)
+  {
+    for (const std::int64_t v : { tail(he), head(he) })
     {
-      meanEdge += l / static_cast<double>(nB);
-    }
-    const double span = requested(hi) - requested(lo);
-    // As many groups as the tallest border column (tapered: BorderHeight)
-    // has border edges of height.
-    double borderSpan = 0.0;
-    for (const std::int64_t he : borderEdges)
-    {
-      for (const std::int64_t v : { tail(he), head(he) })
-      {
-        borderSpan = std::max(borderSpan, height(v, hi) - height(v, lo));
-      }
-    }
-    const int m = std::max(1, std::min(hi - lo, static_cast<int>(std::lround(borderSpan / meanEdge))));
-    for (int g = 1; g < m; ++g)
-    {
-      const double target = requested(lo) + span * g / m;
-      int best = K.back() + 1;
-      for (int k = best; k <= hi - (m - g); ++k)
-      {
-        best = std::abs(requested(k) - target) < std::abs(requested(best) - target) ? k : best;
-      }
-      K.push_back(best);
+      perSide = perSide && std::min(height(v, hi), -height(v, lo)) >= SideGroupsAbove * meanEdge;
     }
   }
-  K.push_back(hi);
+  const std::vector<std::array<int, 2>> spans =
+    perSide ? std::vector<std::array<int, 2>>{ { lo, 0 }, { 0, hi } } : std::vector<std::array<int, 2>>{ { lo, hi } };
+  for (const auto& range : spans)
+  {
+    const int k0 = range[0], k1 = range[1];
+    if (nB > 0)
+    {
+      const double span = requested(k1) - requested(k0);
+      // As many groups as the tallest border column (tapered: BorderHeight)
+      // has border edges of height.
+      double borderSpan = 0.0;
+      for (const std::int64_t he : borderEdges)
+      {
+        for (const std::int64_t v : { tail(he), head(he) })
+        {
+          borderSpan = std::max(borderSpan, height(v, k1) - height(v, k0));
+        }
+      }
+      const int m = std::max(1, std::min(k1 - k0, static_cast<int>(std::lround(borderSpan / meanEdge))));
+      for (int g = 1; g < m; ++g)
+      {
+        const double target = requested(k0) + span * g / m;
+        int best = K.back() + 1;
+        for (int k = best; k <= k1 - (m - g); ++k)
+        {
+          best = std::abs(requested(k) - target) < std::abs(requested(best) - target) ? k : best;
+        }
+        K.push_back(best);
+      }
+    }
+    K.push_back(k1);
+  }
   nGroups = static_cast<int>(K.size()) - 1;
 }
 
@@ -1037,6 +1066,19 @@ void LayerBuild::addTet(const std::array<std::int64_t, 4>& q, int k, std::int64_
   out.TetrahedronSide.push_back(sideOf(k));
 }
 
+bool LayerBuild::bandFlipped(std::size_t e, int g, std::size_t j) const
+{
+  // Kept when u_j lies on a_K's side (the closure's) of the triangle (w_j,
+  // w_j+1, u_j+1): the fold's ridge then points into the void. The other way
+  // the void would see a dent that TetGen can only fill with the flat
+  // tetrahedron of the four apices.
+  const std::vector<std::int64_t>& w = W[e][g];
+  const std::vector<std::int64_t>& u = W[e][g + 1];
+  const Vec aK = x(id(head(borderEdges[e]), K[g + 1]));
+  const Vec w0 = x(w[j]), w1 = x(w[j + 1]), u0 = x(u[j]), u1 = x(u[j + 1]);
+  return Det(w1 - w0, u1 - w0, u0 - w0) * Det(w1 - w0, u1 - w0, aK - w0) < 0.0;
+}
+
 void LayerBuild::BuildCells()
 {
   // Cells.
@@ -1142,8 +1184,16 @@ void LayerBuild::BuildCells()
         {
           const int k = K[g + 1];
           const std::vector<std::int64_t>& u = W[e][g + 1];
-          addTet({ id(a, k), w[j], w[j + 1], u[j + 1] }, k - 1, ee, f, a);
-          addTet({ id(a, k), w[j], u[j + 1], u[j] }, k - 1, ee, f, a);
+          if (bandFlipped(e, g, j))
+          {
+            addTet({ id(a, k), w[j], w[j + 1], u[j] }, k - 1, ee, f, a);
+            addTet({ id(a, k), w[j + 1], u[j + 1], u[j] }, k - 1, ee, f, a);
+          }
+          else
+          {
+            addTet({ id(a, k), w[j], w[j + 1], u[j + 1] }, k - 1, ee, f, a);
+            addTet({ id(a, k), w[j], u[j + 1], u[j] }, k - 1, ee, f, a);
+          }
         }
       }
     }
@@ -1191,8 +1241,16 @@ void LayerBuild::BuildOuterSurface()
         const std::vector<std::int64_t>& w = W[e][g];
         const std::vector<std::int64_t>& u = W[e][g + 1];
         const int side = K[g + 1] > 0 ? 0 : 1;
-        addOuter(w[j], w[j + 1], u[j + 1], 3, ee, side);
-        addOuter(w[j], u[j + 1], u[j], 3, ee, side);
+        if (bandFlipped(e, g, j))
+        {
+          addOuter(w[j], w[j + 1], u[j], 3, ee, side);
+          addOuter(w[j + 1], u[j + 1], u[j], 3, ee, side);
+        }
+        else
+        {
+          addOuter(w[j], w[j + 1], u[j + 1], 3, ee, side);
+          addOuter(w[j], u[j + 1], u[j], 3, ee, side);
+        }
       }
     }
   }

@@ -55,8 +55,12 @@
  * Tetrahedra built against such a quad's two triangles would be as thin as
  * the layer, so every quad gets a pyramid (VTK_PYRAMID: the quad, then the
  * apex) and the quads of a column share apices: the column's layers are cut
- * into groups about one border edge high (one group when the whole stack is
- * lower than that), and each group's pyramids share one apex P_e,g beside
+ * into groups about one border edge high (one group per side when a side
+ * is lower than that; with both sides each at least a quarter of a border
+ * edge high at every border point, S's level is always a group boundary,
+ * so no layer is more than half a side's stack from its apex; lower stacks
+ * keep one group for both sides, since the band between two rows of apices
+ * would be a row of needles), and each group's pyramids share one apex P_e,g beside
  * the middle of the edge at the group's mid-height, d_e outward in the plane
  * of the layer there (d_e is half the edge where nothing is near, at most
  * GapFraction of the distance to the nearest obstacle and of the free
@@ -78,7 +82,10 @@
  * cells, as thin as their layer by design. The void then sees only
  * triangles about as large as S's border edges: the caps, the top and bottom
  * triangle of each fan and wedge ((b_N, a_N, P_e), (a_N, W_j, W_j+1)) and a
- * band of triangles between consecutive rows of apices. The planar cases of
+ * band of triangles between consecutive rows of apices, each quad of it
+ * split along the diagonal that folds it convexly seen from the void (the
+ * other one leaves a dent that TetGen fills with the flat tetrahedron of
+ * the four apices). The planar cases of
  * TestPrismLayers keep TetGen's tetrahedra at >= 10 degrees with stacks up
  * to three border edges high. Where the border edges are much shorter than
  * the stack (e.g. a tiny border loop around a cone's tip), or in the notches

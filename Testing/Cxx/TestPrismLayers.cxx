@@ -1031,3 +1031,99 @@ TEST(PrismLayers, RefusesBadInput)
   EXPECT_FALSE(Build(outside, o, stack, error));
   EXPECT_NE(error.find("obstacle"), std::string::npos) << error;
 }
+
+namespace
+{
+/// The smallest dihedral angle of the cavity's closure tetrahedra and of TetGen's.
+std::array<double, 2> ClosureAndRefillAngles(const ar::CavityRemesh& r)
+{
+  std::array<double, 2> worst = { 180.0, 180.0 };
+  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
+  {
+    if (r.SourceCell[t] >= 0)
+      continue;
+    const std::int64_t* q = &r.Mesh.Tetrahedra[4 * t];
+    double angles[6];
+    ar::TetDihedralAngles(&r.Mesh.Points[3 * q[0]], &r.Mesh.Points[3 * q[1]], &r.Mesh.Points[3 * q[2]],
+      &r.Mesh.Points[3 * q[3]], angles);
+    double& w = worst[r.TetrahedronLayer[t] >= 0 ? 0 : 1];
+    w = std::min(w, *std::min_element(angles, angles + 6));
+  }
+  return worst;
+}
+}
+
+namespace
+{
+/// Groups of layers under one apex: the pyramids' apices per border edge of S.
+double ClosureGroups(const ar::CavityRemesh& r)
+{
+  std::set<std::int64_t> apices;
+  for (std::size_t c = 0; c < r.Pyramids.size() / 5; ++c)
+    apices.insert(r.Pyramids[5 * c + 4]);
+  std::map<std::pair<std::int64_t, std::int64_t>, int> edges;
+  for (std::size_t f = 0; f < r.Surface.size() / 3; ++f)
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::int64_t a = r.Surface[3 * f + k], b = r.Surface[3 * f + (k + 1) % 3];
+      ++edges[{ std::min(a, b), std::max(a, b) }];
+    }
+  std::size_t border = 0;
+  for (const auto& e : edges)
+    border += e.second == 1 ? 1 : 0;
+  return static_cast<double>(apices.size()) / static_cast<double>(border);
+}
+}
+
+TEST(PrismLayers, EachSideOfATallEnoughStackGetsItsOwnClosure)
+{
+  // The closure tetrahedra at S's border points are as thin as their layer
+  // over their distance to the apices; with one group of apices at S's level
+  // for both sides, the outer layers are a whole side's stack from them, with
+  // a group per side at most half of one. Five layers on each side of the
+  // tilted plane (border edges 0.051, the stack 0.025 per side at the border)
+  // and of the cone sector (edges about 0.04): the closure tetrahedra were
+  // 6.05 and 4.76 degrees with one group, 8.35 and 6.71 with one per side.
+  // Eight layers on 0.06 on the cone: several groups per side, joined by
+  // bands of triangles whose folds must face the void convexly (a band
+  // folded the other way left TetGen the flat tetrahedron of four apices,
+  // 2.4 degrees on a validation cone).
+  const ar::TetMesh cube = KuhnCube(12);
+  struct Case
+  {
+    const char* Label;
+    Surface S;
+    int Layers;
+    double Total, Closure;
+  };
+  for (const Case& c : { Case{ "plane", TiltedPatch(), 5, 0.025, 7.5 }, Case{ "cone", ConeSector(), 5, 0.025, 6.0 },
+         Case{ "cone, 8 layers", ConeSector(), 8, 0.06, 3.5 } })
+  {
+    ar::CavityOptions o;
+    o.Layers.NumberOfLayers = c.Layers;
+    o.Layers.TotalThickness = c.Total;
+    ar::CavityRemesh r;
+    std::string error;
+    ASSERT_TRUE(ar::RemeshLocalCavity(cube, c.S.Points.data(), c.S.Points.size() / 3, c.S.Triangles.data(),
+      c.S.Triangles.size() / 3, o, r, error)) << c.Label << ": " << error;
+    ExpectValidCavity(cube, r, r.SurfaceTrianglesUsed, c.Layers, true, c.Label);
+    const auto worst = ClosureAndRefillAngles(r);
+    std::printf("%s: closure tetrahedra >= %.2f deg, TetGen's >= %.2f\n", c.Label, worst[0], worst[1]);
+    EXPECT_GE(worst[0], c.Closure) << c.Label;
+    EXPECT_GE(ClosureGroups(r), 2.0) << c.Label;
+    EXPECT_GE(worst[1], 10.0) << c.Label;
+  }
+  // A side lower than a quarter of its border edges keeps one group for
+  // both: the band between two rows of apices would be a row of needles.
+  ar::CavityOptions o;
+  o.Layers.NumberOfLayers = 5;
+  o.Layers.TotalThickness = 0.01;
+  const Surface s = TiltedPatch();
+  ar::CavityRemesh r;
+  std::string error;
+  ASSERT_TRUE(ar::RemeshLocalCavity(cube, s.Points.data(), s.Points.size() / 3, s.Triangles.data(),
+    s.Triangles.size() / 3, o, r, error)) << error;
+  ExpectValidCavity(cube, r, r.SurfaceTrianglesUsed, 5, true, "low stack");
+  EXPECT_GE(ClosureAndRefillAngles(r)[1], 10.0);
+  EXPECT_EQ(ClosureGroups(r), 1.0);
+}

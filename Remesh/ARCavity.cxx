@@ -836,6 +836,15 @@ bool CavityRun::TrimSurface()
     error = "nothing of the feature surface is left after trimming it back from the domain "
             "boundary and the locked cells (every triangle has a point within BoundaryMargin "
             "edge lengths of them).";
+    if (layers)
+    {
+      std::ostringstream msg;
+      msg << " With prism layers it is trimmed one edge further, BoundaryMargin + 1 = " << margin
+          << " edges, and pieces with no point off their border are dropped: the stack's closure needs "
+             "that room, which the domain does not have here (a thin slab?). Tetrahedra (no layers) "
+             "need only BoundaryMargin.";
+      error += msg.str();
+    }
     return false;
   }
   return true;

@@ -56,7 +56,9 @@ Asserts, on the adapted mesh and the first fitted surface (port 1):
   nothing of it is left (AdaptToShocks refuses and passes the input
   through). Nor on wedge20Ma2p5tet, 0.12 deep on cells of 0.007-0.02:
   the same refusal ("nothing of the feature surface is left after
-  trimming"). The closure tetrahedra at S's border points (one per layer
+  trimming"), checked: its message names the extra edge of trim the
+  stack's closure needs and tetrahedra as the way out, and the input
+  passes through. The closure tetrahedra at S's border points (one per layer
   between the column and a row of apices about 0.7 border edges out, as
   thin as their layer by design, ARPrismLayers.h) are 6.2-7.7 degrees on
   the cones since each side has its own row of apices (5.1-5.7 with one
@@ -341,6 +343,19 @@ check(len(ratios) > 0 and np.percentile(ratios, 1) >= 0.5 and min(ratios) >= 0.2
       "(1%% %.2f, min %.2f, median %.2f of it)"
       % (case, len(ratios), requested, np.percentile(ratios, 1), min(ratios), np.median(ratios)))
 artest.check_valid_mesh(case, src, out)
+if not two_d and case in NO_PRISM_CASES:
+    # The refusal names the cause (the trim the stack's closure needs) and the
+    # way out, and the input passes through.
+    from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+    previous, messages = vtkOutputWindow.GetInstance(), vtkStringOutputWindow()
+    vtkOutputWindow.SetInstance(messages)
+    refused = artest.fetch(AdaptToShocks(Input=reader, LayerType="Prisms"))
+    vtkOutputWindow.SetInstance(previous)
+    text = messages.GetOutput()
+    check("BoundaryMargin + 1" in text and "thin slab" in text and "Tetrahedra (no layers)" in text
+          and refused.GetNumberOfCells() == src.GetNumberOfCells(),
+          "%s, prism layers: refused, the input passed through (%d cells), the message naming the trim the "
+          "closure needs and tetrahedra as the way out" % (case, refused.GetNumberOfCells()))
 if not two_d and case not in NO_PRISM_CASES:
     layered = artest.fetch(AdaptToShocks(Input=reader, LayerType="Prisms"))
     built = "Prisms" in layered.FieldData.keys() and f(layered, "Prisms") > 0

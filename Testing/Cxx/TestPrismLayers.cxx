@@ -1084,10 +1084,13 @@ TEST(PrismLayers, EachSideOfATallEnoughStackGetsItsOwnClosure)
   // tilted plane (border edges 0.051, the stack 0.025 per side at the border)
   // and of the cone sector (edges about 0.04): the closure tetrahedra were
   // 6.05 and 4.76 degrees with one group, 8.35 and 6.71 with one per side.
-  // Eight layers on 0.06 on the cone: several groups per side, joined by
-  // bands of triangles whose folds must face the void convexly (a band
-  // folded the other way left TetGen the flat tetrahedron of four apices,
-  // 2.4 degrees on a validation cone).
+  // Eight layers on 0.06 on the cone (tapered to half a border edge at the
+  // border: one group per side): TetGen's tetrahedra against the band of
+  // triangles between the two sides' rows of apices, whose quads must fold
+  // convexly seen from the void (folded the other way, a band left TetGen
+  // the flat tetrahedron of four apices, 2.4 degrees on a validation cone;
+  // that case, where the fold decides, is TestValidationCase's THIN_STACKS:
+  // here both folds pass).
   const ar::TetMesh cube = KuhnCube(12);
   struct Case
   {

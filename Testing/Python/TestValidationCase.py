@@ -98,11 +98,11 @@ CASE_TOLERANCE = {"wedge12Ma6tet": 0.7, "wedge15Ma3tet": 0.7}
 # smallest angle asked of the layer cells (the closure's tetrahedra, see above).
 NO_PRISM_CASES = {"wedge12Ma6tet", "wedge20Ma2p5tet"}
 CLOSURE_FLOOR = 5.0
-# A thinner, taller stack by hand (the payoff's eight layers on 0.03 per side,
-# 0.51x the uniform mesh's shock thickness): several groups of layers per
-# side, joined by bands of triangles between rows of apices. A band folded
-# towards the void left TetGen the flat tetrahedron of four apices (2.4
-# degrees); ARPrismLayers now folds each band convexly. Its closure
+# A thinner stack by hand (the payoff's eight layers on 0.03 per side, 0.51x
+# the uniform mesh's shock thickness): a row of apices per side, joined by a
+# band of triangles between the rows. A band quad folded towards the void
+# left TetGen the flat tetrahedron of four apices (2.4 degrees);
+# ARPrismLayers now folds each band quad convexly. Its closure
 # tetrahedra are thinner than CLOSURE_FLOOR by design (4.7 degrees: thin
 # layers under apices half a border edge out), so only TetGen's are asked.
 THIN_STACKS = {"cone15Ma3": (0.03, 8)}

@@ -202,8 +202,10 @@ UnionFind JoinByEdges(
   UnionFind joined(nTris);
   for (std::size_t e = 0, next = 0; e < edges.size(); e = next)
   {
-    for (next = e + 1; next < edges.size() && edges[next][0] == edges[e][0] && edges[next][1] == edges[e][1]; ++next)
+    next = e + 1;
+    while (next < edges.size() && edges[next][0] == edges[e][0] && edges[next][1] == edges[e][1])
     {
+      ++next;
     }
     if (!manifoldOnly)
     {

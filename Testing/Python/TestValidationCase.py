@@ -39,10 +39,11 @@ Asserts, on the adapted mesh and the first fitted surface (port 1):
 - the new cells within two requested sizes of the surface at least half
   the requested size (SurfaceEdgeLength; a cell's size: the edge of the
   regular tetrahedron or equilateral triangle of its volume), so the
-  explicit solver's time step follows the refinement asked for: 99 % of
-  them, and every one at least a quarter (on wedge10Ma3 CGAL's refinement
-  leaves a rosette of triangles down to 0.34 around the curve's end next to
-  the outlet; 0.54-0.84 on the other cases);
+  explicit solver's time step follows the refinement asked for: every
+  one (the smallest 0.57-0.67 of it on the 3-D cases, TetGen's, and
+  0.81-0.87 in 2-D; this was 99 % of them and every one a quarter while
+  CGAL's refinement left a rosette of triangles down to 0.34 around the
+  2-D curve's end, before the open curve kept its last point);
 - the usual validity (artest.check_valid_mesh): positive corner Jacobians,
   conforming, the boundary the input's face for face, watertight, volume to
   1e-9;
@@ -338,8 +339,8 @@ for c in np.where(np.asarray(out.CellData["Region"]) == 1)[0]:
     if d2.get() <= (2 * requested) ** 2:
         edge = np.sqrt(4 * volume[c] / depth / np.sqrt(3)) if two_d else (6 * np.sqrt(2) * volume[c]) ** (1 / 3)
         ratios.append(edge / requested)
-check(len(ratios) > 0 and np.percentile(ratios, 1) >= 0.5 and min(ratios) >= 0.25,
-      "%s: 99%% of the %d new cells near the shock are at least half the requested size %.4g, every one a quarter "
+check(len(ratios) > 0 and min(ratios) >= 0.5,
+      "%s: every one of the %d new cells near the shock is at least half the requested size %.4g "
       "(1%% %.2f, min %.2f, median %.2f of it)"
       % (case, len(ratios), requested, np.percentile(ratios, 1), min(ratios), np.median(ratios)))
 artest.check_valid_mesh(case, src, out)

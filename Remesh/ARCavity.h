@@ -128,9 +128,10 @@ struct CavityOptions
   /// where no earlier one is within this many mean edges, no other face of
   /// the complex meets a box of half-width h about it (the box holds the
   /// segment out from the centroid) and no S triangle one of half-width
-  /// 0.55 h (a plane S at distance h does not: 0.55 sqrt(3) < 1). TetGen's size is the radius of a ball around each point that
-  /// no new point may enter, so on its own it places the first points off S
-  /// 1.1-1.7 of S's edges away: the cells across S (across the shock) were
+  /// 0.55 h (a plane S at distance h does not: 0.55 sqrt(3) < 1). TetGen's
+  /// size is the radius of a ball around each point that no new point may
+  /// enter, so on its own it places the first points off S 1.1-1.7 of S's
+  /// edges away: the cells across S (across the shock) were
   /// coarser than along it. With these points the tetrahedra on S are about
   /// regular (the longest edge at S's nodes 1.3-1.5 of the edge instead of
   /// 1.6-1.7). 0: off.

@@ -469,6 +469,43 @@ Surface ConeSector()
     }
   return out;
 }
+
+/// The smallest dihedral angle of the cavity's closure tetrahedra and of TetGen's.
+std::array<double, 2> ClosureAndRefillAngles(const ar::CavityRemesh& r)
+{
+  std::array<double, 2> worst = { 180.0, 180.0 };
+  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
+  {
+    if (r.SourceCell[t] >= 0)
+      continue;
+    const std::int64_t* q = &r.Mesh.Tetrahedra[4 * t];
+    double angles[6];
+    ar::TetDihedralAngles(&r.Mesh.Points[3 * q[0]], &r.Mesh.Points[3 * q[1]], &r.Mesh.Points[3 * q[2]],
+      &r.Mesh.Points[3 * q[3]], angles);
+    double& w = worst[r.TetrahedronLayer[t] >= 0 ? 0 : 1];
+    w = std::min(w, *std::min_element(angles, angles + 6));
+  }
+  return worst;
+}
+
+/// Groups of layers under one apex: the pyramids' apices per border edge of S.
+double ClosureGroups(const ar::CavityRemesh& r)
+{
+  std::set<std::int64_t> apices;
+  for (std::size_t c = 0; c < r.Pyramids.size() / 5; ++c)
+    apices.insert(r.Pyramids[5 * c + 4]);
+  std::map<std::pair<std::int64_t, std::int64_t>, int> edges;
+  for (std::size_t f = 0; f < r.Surface.size() / 3; ++f)
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::int64_t a = r.Surface[3 * f + k], b = r.Surface[3 * f + (k + 1) % 3];
+      ++edges[{ std::min(a, b), std::max(a, b) }];
+    }
+  std::size_t border = 0;
+  for (const auto& e : edges)
+    border += e.second == 1 ? 1 : 0;
+  return static_cast<double>(apices.size()) / static_cast<double>(border);
+}
 }
 
 TEST(PrismLayers, PlanarSurfaceGetsRightPrismsOfTheRequestedThickness)
@@ -805,17 +842,7 @@ TEST(PrismLayers, StackTallerThanItsBorderEdgesTapersToItsClosure)
   EXPECT_LE(borderMax, 0.5 * 0.05 * std::sqrt(1.04) * (1 + 1e-9)) << "the border columns are tapered to half their edge";
   EXPECT_NEAR(innerMin, 0.1, 1e-9) << "the columns inside are at the full height";
   EXPECT_GT(r.LimitedColumns, 0u);
-  double worst = 180.0;
-  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
-  {
-    if (r.SourceCell[t] >= 0 || r.TetrahedronLayer[t] >= 0)
-      continue; // kept, or a closure tetrahedron (a layer cell)
-    const std::int64_t* q = &r.Mesh.Tetrahedra[4 * t];
-    double angles[6];
-    ar::TetDihedralAngles(&r.Mesh.Points[3 * q[0]], &r.Mesh.Points[3 * q[1]], &r.Mesh.Points[3 * q[2]],
-      &r.Mesh.Points[3 * q[3]], angles);
-    worst = std::min(worst, *std::min_element(angles, angles + 6));
-  }
+  const double worst = ClosureAndRefillAngles(r)[1]; // TetGen's, not the closure's
   std::printf("tapered stack 2 edges high: border columns <= %.4f, inner >= %.4f, TetGen's tetrahedra >= %.2f deg\n",
     borderMax, innerMin, worst);
   EXPECT_GE(worst, 10.0);
@@ -1030,49 +1057,6 @@ TEST(PrismLayers, RefusesBadInput)
     outside.Points[i] += 0.45;
   EXPECT_FALSE(Build(outside, o, stack, error));
   EXPECT_NE(error.find("obstacle"), std::string::npos) << error;
-}
-
-namespace
-{
-/// The smallest dihedral angle of the cavity's closure tetrahedra and of TetGen's.
-std::array<double, 2> ClosureAndRefillAngles(const ar::CavityRemesh& r)
-{
-  std::array<double, 2> worst = { 180.0, 180.0 };
-  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
-  {
-    if (r.SourceCell[t] >= 0)
-      continue;
-    const std::int64_t* q = &r.Mesh.Tetrahedra[4 * t];
-    double angles[6];
-    ar::TetDihedralAngles(&r.Mesh.Points[3 * q[0]], &r.Mesh.Points[3 * q[1]], &r.Mesh.Points[3 * q[2]],
-      &r.Mesh.Points[3 * q[3]], angles);
-    double& w = worst[r.TetrahedronLayer[t] >= 0 ? 0 : 1];
-    w = std::min(w, *std::min_element(angles, angles + 6));
-  }
-  return worst;
-}
-}
-
-namespace
-{
-/// Groups of layers under one apex: the pyramids' apices per border edge of S.
-double ClosureGroups(const ar::CavityRemesh& r)
-{
-  std::set<std::int64_t> apices;
-  for (std::size_t c = 0; c < r.Pyramids.size() / 5; ++c)
-    apices.insert(r.Pyramids[5 * c + 4]);
-  std::map<std::pair<std::int64_t, std::int64_t>, int> edges;
-  for (std::size_t f = 0; f < r.Surface.size() / 3; ++f)
-    for (int k = 0; k < 3; ++k)
-    {
-      const std::int64_t a = r.Surface[3 * f + k], b = r.Surface[3 * f + (k + 1) % 3];
-      ++edges[{ std::min(a, b), std::max(a, b) }];
-    }
-  std::size_t border = 0;
-  for (const auto& e : edges)
-    border += e.second == 1 ? 1 : 0;
-  return static_cast<double>(apices.size()) / static_cast<double>(border);
-}
 }
 
 TEST(PrismLayers, EachSideOfATallEnoughStackGetsItsOwnClosure)

@@ -27,9 +27,10 @@
  *    size back to the input's through the cavity, whose radius
  *    RemovalFactor * max(l_si, l_vj) follows the input's size, so it holds
  *    the grading. In 3-D the refill is given free points a regular
- *    tetrahedron's height off S on both sides (ar::CavityOptions::
- *    OffsetPointSpacing), so that the cells on S are as fine across it as
- *    along it.
+ *    tetrahedron's height off S on both sides (with prism layers off the
+ *    stack's caps; ar::CavityOptions::OffsetPointSpacing), so that the
+ *    cells on S are as fine across it as along it and no sliver of four
+ *    points of a curved S or cap is left against it.
  * 2. LOCAL_CAVITY (default): a node V_j is removed if it lies within
  *    RemovalFactor * max(l_si, l_vj) of a node S_i and, with VisibilityTest,
  *    no boundary face of V lies between them. The tetrahedra touching removed

@@ -1320,25 +1320,41 @@ void CavityRun::AddSeparator(bool wanted)
   separatorPoints = added.size() / 3;
 }
 
-// Free points off S on both sides, a regular tetrahedron's height above the
-// centroids of S's triangles, at least OffsetPointSpacing mean edges apart
-// (see CavityOptions). Appended to the complex after every other point.
+// Free points off S on both sides (with prism layers: off the stack's caps,
+// outward), a regular tetrahedron's height above the centroids of the
+// triangles, at least OffsetPointSpacing mean edges apart (see
+// CavityOptions). Appended to the complex after every other point.
 void CavityRun::AddOffsetPoints()
 {
   offsetPoints = 0;
   const double spacing = options.OffsetPointSpacing;
-  const std::size_t nTri = sTris.size() / 3;
-  if (layers || !(spacing > 0.0) || nTri == 0)
+  // The triangles the points stand on (complex triangles, oriented: with
+  // layers the caps' right-hand normal points into the void) and the sides
+  // they stand on (+1 along the normal, -1 against it, 0 both).
+  std::vector<std::size_t> base;
+  std::vector<char> isBase(plc.TriangleMarkers.size(), 0);
+  for (std::size_t t = nShell; t < plc.TriangleMarkers.size(); ++t)
+  {
+    const bool cap = layers && plc.TriangleMarkers[t] == 4 && stack.OuterTriangleKind[t - nShell] <= 1;
+    if (cap || (!layers && plc.TriangleMarkers[t] == 2))
+    {
+      base.push_back(t);
+      isBase[t] = 1;
+    }
+  }
+  const int sides = layers ? 1 : 2;
+  const std::size_t nTri = base.size();
+  if (!(spacing > 0.0) || nTri == 0)
   {
     return;
   }
   const double heightFactor = std::sqrt(2.0 / 3.0); // a regular tetrahedron's apex over its base's centroid
-  // Candidates, two per triangle (+ side, then - side).
-  std::vector<double> candidate(6 * nTri), reach(nTri, 0.0), height(nTri, 0.0);
+  // Candidates, `sides` per triangle (+ side, then - side).
+  std::vector<double> candidate(3 * sides * nTri), reach(nTri, 0.0), height(nTri, 0.0);
   for (std::size_t t = 0; t < nTri; ++t)
   {
-    const Point a = P(&sPoints[3 * sTris[3 * t]]), b = P(&sPoints[3 * sTris[3 * t + 1]]),
-                c = P(&sPoints[3 * sTris[3 * t + 2]]);
+    const std::int64_t* f = &plc.Triangles[3 * base[t]];
+    const Point a = P(&plc.Points[3 * f[0]]), b = P(&plc.Points[3 * f[1]]), c = P(&plc.Points[3 * f[2]]);
     const Kernel::Vector_3 n = CGAL::cross_product(b - a, c - a);
     const double length = std::sqrt(n.squared_length());
     if (!(length > 0.0))
@@ -1351,10 +1367,10 @@ void CavityRun::AddOffsetPoints()
     reach[t] = spacing * mean;
     height[t] = heightFactor * mean;
     const Point centroid = CGAL::centroid(a, b, c);
-    for (int side = 0; side < 2; ++side)
+    for (int side = 0; side < sides; ++side)
     {
       const Point x = centroid + n * ((side == 0 ? height[t] : -height[t]) / length);
-      std::copy(x.cartesian_begin(), x.cartesian_end(), &candidate[6 * t + 3 * side]);
+      std::copy(x.cartesian_begin(), x.cartesian_end(), &candidate[3 * (sides * t + side)]);
     }
   }
   // In triangle order, a candidate stays when no earlier one is within the
@@ -1377,9 +1393,9 @@ void CavityRun::AddOffsetPoints()
     return std::array<std::int64_t, 3>{ static_cast<std::int64_t>(std::floor(x[0] / cell)),
       static_cast<std::int64_t>(std::floor(x[1] / cell)), static_cast<std::int64_t>(std::floor(x[2] / cell)) };
   };
-  for (std::size_t i = 0; i < 2 * nTri; ++i)
+  for (std::size_t i = 0; i < sides * nTri; ++i)
   {
-    if (!(reach[i / 2] > 0.0))
+    if (!(reach[i / sides] > 0.0))
     {
       continue;
     }
@@ -1399,7 +1415,7 @@ void CavityRun::AddOffsetPoints()
           }
           for (const std::size_t q : it->second)
           {
-            if (Distance(x, &candidate[3 * q]) < std::max(reach[i / 2], reach[q / 2]))
+            if (Distance(x, &candidate[3 * q]) < std::max(reach[i / sides], reach[q / sides]))
             {
               free = false;
               break;
@@ -1416,15 +1432,14 @@ void CavityRun::AddOffsetPoints()
   }
   // Clear of the rest of the complex: no other face within a box of
   // half-width h around the point (it holds the segment from the centroid
-  // out to the point), no S triangle within half-width 0.55 h (a plane S at
-  // distance h stays outside such a box: 0.55 sqrt(3) < 1; a concave S or
-  // another piece closer than 0.55 h does not).
+  // out to the point), no triangle of S (of the caps) within half-width
+  // 0.55 h (a plane at distance h stays outside such a box: 0.55 sqrt(3) <
+  // 1; a concave surface or another piece closer than 0.55 h does not).
   std::vector<Triangle> others, surface;
   for (std::size_t t = 0; 3 * t < plc.Triangles.size(); ++t)
   {
     const std::int64_t* f = &plc.Triangles[3 * t];
-    (plc.TriangleMarkers[t] == 2 ? surface : others)
-      .emplace_back(P(&plc.Points[3 * f[0]]), P(&plc.Points[3 * f[1]]), P(&plc.Points[3 * f[2]]));
+    (isBase[t] ? surface : others).emplace_back(P(&plc.Points[3 * f[0]]), P(&plc.Points[3 * f[1]]), P(&plc.Points[3 * f[2]]));
   }
   const Tree othersTree(others.begin(), others.end()), surfaceTree(surface.begin(), surface.end());
   std::vector<char> clear(spaced.size(), 0);
@@ -1435,7 +1450,7 @@ void CavityRun::AddOffsetPoints()
       {
         const std::size_t i = spaced[k];
         const Point x = P(&candidate[3 * i]);
-        const double h = height[i / 2];
+        const double h = height[i / sides];
         clear[k] = !AnyWithin(othersTree, x, h) && !AnyWithin(surfaceTree, x, 0.55 * h) ? 1 : 0;
       }
     },
@@ -1445,9 +1460,9 @@ void CavityRun::AddOffsetPoints()
     if (clear[k])
     {
       const std::size_t i = spaced[k];
-      const std::int64_t* f = &sTris[3 * (i / 2)];
+      const std::int64_t* f = &plc.Triangles[3 * base[i / sides]];
       plc.Points.insert(plc.Points.end(), &candidate[3 * i], &candidate[3 * i] + 3);
-      nodeSize.push_back((sSize[f[0]] + sSize[f[1]] + sSize[f[2]]) / 3.0);
+      nodeSize.push_back((nodeSize[f[0]] + nodeSize[f[1]] + nodeSize[f[2]]) / 3.0);
       ++offsetPoints;
     }
   }

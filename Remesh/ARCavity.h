@@ -28,11 +28,12 @@
  * boundary by the domain's.)
  *
  * The refill: TetGen on the cavity boundary plus S (internal facets, marker
- * 2) and free points off S on both sides (OffsetPointSpacing) with quality
- * switches and a size field: l_v at the cavity's boundary nodes, S's edge
- * length at S's nodes and at the free points. A hole point in each kept region next
- * to the cavity stops TetGen from filling kept space. The refill's input is
- * put in a canonical order (cavity-boundary nodes sorted by coordinates,
+ * 2) and free points off S on both sides, or off the layer stack's caps
+ * (OffsetPointSpacing), with quality switches and a size field: l_v at the
+ * cavity's boundary nodes, S's edge length at S's nodes and at the free
+ * points. A hole point in each kept region next to the cavity stops TetGen
+ * from filling kept space. The refill's input is put in a canonical order
+ * (cavity-boundary nodes sorted by coordinates,
  * mean edge lengths summed exactly), so the same cavity gives the same refill
  * whatever the numbering of V: this is what lets a distributed run, which
  * gathers the cavity to one rank, equal the serial one.
@@ -122,19 +123,25 @@ struct CavityOptions
   /// shock is otherwise one piece. Smaller cavities are refilled whole (the
   /// second process does not pay for itself there).
   std::size_t SplitRefillAbove = 200000;
-  /// Refilled without layers: free points given to TetGen on both sides of
-  /// S, a regular tetrahedron's height (sqrt(2/3) of the triangle's mean
-  /// edge h) above the centroids of S's triangles, kept in triangle order
-  /// where no earlier one is within this many mean edges, no other face of
-  /// the complex meets a box of half-width h about it (the box holds the
-  /// segment out from the centroid) and no S triangle one of half-width
-  /// 0.55 h (a plane S at distance h does not: 0.55 sqrt(3) < 1). TetGen's
+  /// Free points given to TetGen on both sides of S (with prism layers:
+  /// outside the stack's caps, see below), a regular tetrahedron's height
+  /// (sqrt(2/3) of the triangle's mean edge h) above the triangles'
+  /// centroids, kept in triangle order where no earlier one is within this
+  /// many mean edges, no other face of the complex meets a box of half-width
+  /// h about it (the box holds the segment out from the centroid) and no S
+  /// triangle one of half-width 0.55 h (a plane S at distance h does not:
+  /// 0.55 sqrt(3) < 1). TetGen's
   /// size is the radius of a ball around each point that no new point may
   /// enter, so on its own it places the first points off S 1.1-1.7 of S's
   /// edges away: the cells across S (across the shock) were
   /// coarser than along it. With these points the tetrahedra on S are about
   /// regular (the longest edge at S's nodes 1.3-1.5 of the edge instead of
-  /// 1.6-1.7). 0: off.
+  /// 1.6-1.7). With layers the caps are curved like S (a cone's inner side
+  /// is a bowl seen from the void) and TetGen, which may not split them
+  /// (-Y), filled the space between a concave cap and its chords with
+  /// slivers of four cap points (3.9 degrees on a cone sector with 8
+  /// layers); the points off the caps give it the tetrahedra on them
+  /// instead (2-4 % more nodes on the validation cones). 0: off.
   double OffsetPointSpacing = 0.9;
   /// Prism layers on both sides of S (ARPrismLayers.h); NumberOfLayers = 0
   /// (the default) leaves them off and the refill is tetrahedra only. When on:

@@ -48,6 +48,15 @@ constexpr double MinAreaRatio = 0.5;
 /// Each side gets its own closure groups where every border column is at
 /// least this many border edges high on both sides (NumberPoints).
 constexpr double SideGroupsAbove = 0.25;
+/// A fan's apex stands at most this fraction of its group's height out from
+/// the border edge (OffsetApices): the wedge tetrahedra of a group's outer
+/// layers are best near half its height (5 layers in a group a third of an
+/// edge high: 14 degrees at 0.45-0.5 of it, 7.4 at half an edge out).
+constexpr double ApexGroupFraction = 0.5;
+/// A wedge at a border point whose chord between the two fans' apices
+/// passes farther than this many arc radii from the point gets a point on
+/// its bisector (PlaceWedges).
+constexpr double FarChord = 1.2;
 
 Vec At(const double* x)
 {
@@ -214,6 +223,7 @@ private:
   void ComputeHeights();
   void Grade();
   void ComputeBorderOffsets();
+  void OffsetApices();
   void NumberPoints();
   bool ComputePrismFloors();
   bool CheckHeights();
@@ -331,6 +341,7 @@ bool LayerBuild::Execute()
   ComputeBorderOffsets(); // (the taper in ComputeHeights uses the border edges' lengths)
   ComputeHeights();
   NumberPoints();
+  OffsetApices();
   if (!ComputePrismFloors())
   {
     return false;
@@ -779,6 +790,25 @@ void LayerBuild::ComputeBorderOffsets()
   }
 }
 
+void LayerBuild::OffsetApices()
+{
+  // A closure tetrahedron (a_k, a_k+1, W_j, W_j+1) at a border point is as
+  // thin as its layer t seen from the apices: its angle at the edge W_j W_j+1
+  // is about t d / (d^2 + dz^2), dz the layer's distance from the group's
+  // mid-height, largest for d near half the group's height.
+  for (std::size_t e = 0; e < nB; ++e)
+  {
+    const std::int64_t a = tail(borderEdges[e]), b = head(borderEdges[e]);
+    double tallest = 0.0;
+    for (int g = 0; g < nGroups; ++g)
+    {
+      tallest = std::max(tallest,
+        0.5 * (height(a, K[g + 1]) - height(a, K[g]) + height(b, K[g + 1]) - height(b, K[g])));
+    }
+    dEdge[e] = std::min(dEdge[e], ApexGroupFraction * tallest);
+  }
+}
+
 std::int64_t LayerBuild::id(std::int64_t v, int k) const
 {
   if (k == 0)
@@ -947,8 +977,19 @@ bool LayerBuild::PlaceWedges()
         }
         w.Phi1[g] = phi1;
         w.Gamma[g] = angle(p2) - phi1;
-        w.Rho[g] = 0.5 * (project(p1 - X[a]).norm() + project(p2 - X[a]).norm());
+        // The arc's points no farther out than the apices' offsets: a piece's
+        // tetrahedra see a's layers from the chord W_j W_j+1, and seen from
+        // farther than the offset they flatten.
+        w.Rho[g] = std::min(0.5 * (project(p1 - X[a]).norm() + project(p2 - X[a]).norm()),
+          0.5 * (dEdge[e] + dEdge[static_cast<std::size_t>(f)]));
         w.Pieces = std::max(w.Pieces, static_cast<int>(std::ceil(w.Gamma[g] / (0.5 * Pi) - 1e-9)));
+        // A narrow wedge whose chord passes far out (a border turning inward)
+        // gets a point on its bisector.
+        const Vec r1 = project(p1 - X[a]), r2 = project(p2 - X[a]);
+        if (r1.cross(r2).norm() > FarChord * w.Rho[g] * (r2 - r1).norm())
+        {
+          w.Pieces = std::max(w.Pieces, 2);
+        }
         if (w.Gamma[g] < MinWedgeAngle)
         {
           lower[e] = lower[f] = 1;

@@ -48,10 +48,8 @@ constexpr double MinAreaRatio = 0.5;
 /// Each side gets its own closure groups where every border column is at
 /// least this many border edges high on both sides (NumberPoints).
 constexpr double SideGroupsAbove = 0.25;
-/// A fan's apex stands at most this fraction of its group's height out from
-/// the border edge (OffsetApices): the wedge tetrahedra of a group's outer
-/// layers are best near half its height (5 layers in a group a third of an
-/// edge high: 14 degrees at 0.45-0.5 of it, 7.4 at half an edge out).
+/// A fan's apex stands at most about this fraction of its group's height out
+/// from the border edge with uniform layers (OffsetApices chooses per group).
 constexpr double ApexGroupFraction = 0.5;
 /// A wedge at a border point whose chord between the two fans' apices
 /// passes farther than this many arc radii from the point gets a point on
@@ -249,7 +247,11 @@ private:
   /// Signed distance from S of column index k in [lo, hi]: requested, and at point v.
   double requested(int k) const { return k >= 0 ? z[k] : -z[-k]; }
   double height(std::int64_t v, int k) const { return k >= 0 ? z[k] * H[2 * v] / Z : -z[-k] * H[2 * v + 1] / Z; }
-  double groupMid(std::int64_t v, int g) const { return 0.5 * (height(v, K[g]) + height(v, K[g + 1])); }
+  /// Group g's apices stand at ApexLevel[g] of its height at the column.
+  double groupMid(std::int64_t v, int g) const
+  {
+    return height(v, K[g]) + apexLevel[g] * (height(v, K[g + 1]) - height(v, K[g]));
+  }
   /// Layer and side of the layer between column indices k and k + 1.
   static int layerOf(int k) { return k >= 0 ? k : -k - 1; }
   static int sideOf(int k) { return k >= 0 ? 1 : -1; }
@@ -307,6 +309,7 @@ private:
   std::int64_t firstApex = 0;
   int lo = 0, hi = 0, nGroups = 0;
   std::vector<int> K;
+  std::vector<double> apexLevel, apexOut; // per group: the apices' level and offset, in group heights
   std::vector<double> prismFloor;
   // A round's state: the wedges at border points and their apices, what
   // must shrink, where each outer triangle comes from.
@@ -794,18 +797,51 @@ void LayerBuild::OffsetApices()
 {
   // A closure tetrahedron (a_k, a_k+1, W_j, W_j+1) at a border point is as
   // thin as its layer t seen from the apices: its angle at the edge W_j W_j+1
-  // is about t d / (d^2 + dz^2), dz the layer's distance from the group's
-  // mid-height, largest for d near half the group's height.
+  // is about t d / (d^2 + dz^2), d the apices' offset and dz the layer's
+  // height over them. Per group, the level and the offset (in group heights)
+  // that make the thinnest of these angles largest: with uniform layers the
+  // middle and about half the height (the outer layers 14 degrees with 5 in
+  // a group a third of an edge high, 7.4 with the apices half an edge out);
+  // with layers growing away from S nearer the thin ones (5 layers growing
+  // by 1.2: 8.8 degrees at the middle, 13 near the thin end).
+  apexLevel.assign(nGroups, 0.5);
+  apexOut.assign(nGroups, ApexGroupFraction);
+  for (int g = 0; g < nGroups; ++g)
+  {
+    const double z0 = requested(K[g]), span = requested(K[g + 1]) - z0;
+    double best = -1.0;
+    for (int i = 1; i < 20; ++i)
+    {
+      for (int j = 4; j <= 20; ++j)
+      {
+        const double level = 0.05 * i, out = 0.05 * j, za = z0 + level * span, d = out * span;
+        double worst = std::numeric_limits<double>::max();
+        for (int k = K[g]; k < K[g + 1]; ++k)
+        {
+          const double t = requested(k + 1) - requested(k), dz = 0.5 * (requested(k + 1) + requested(k)) - za;
+          worst = std::min(worst, t * d / (d * d + dz * dz));
+        }
+        // Ties (a symmetric group) keep the middle and the smaller offset.
+        if (worst > best * (1.0 + 1e-9) ||
+          (worst > best * (1.0 - 1e-9) && std::abs(level - 0.5) < std::abs(apexLevel[g] - 0.5)))
+        {
+          best = worst;
+          apexLevel[g] = level;
+          apexOut[g] = out;
+        }
+      }
+    }
+  }
   for (std::size_t e = 0; e < nB; ++e)
   {
     const std::int64_t a = tail(borderEdges[e]), b = head(borderEdges[e]);
-    double tallest = 0.0;
+    double out = 0.0;
     for (int g = 0; g < nGroups; ++g)
     {
-      tallest = std::max(tallest,
-        0.5 * (height(a, K[g + 1]) - height(a, K[g]) + height(b, K[g + 1]) - height(b, K[g])));
+      out = std::max(out,
+        apexOut[g] * 0.5 * (height(a, K[g + 1]) - height(a, K[g]) + height(b, K[g + 1]) - height(b, K[g])));
     }
-    dEdge[e] = std::min(dEdge[e], ApexGroupFraction * tallest);
+    dEdge[e] = std::min(dEdge[e], out);
   }
 }
 

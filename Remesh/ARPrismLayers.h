@@ -61,9 +61,12 @@
  * so no layer is more than half a side's stack from its apex; lower stacks
  * keep one group for both sides, since the band between two rows of apices
  * would be a row of needles), and each group's pyramids share one apex P_e,g beside
- * the middle of the edge at the group's mid-height, d_e outward in the plane
- * of the layer there (d_e is half the edge or half the group's height,
- * whichever is less, at most GapFraction of the distance to the nearest
+ * the middle of the edge at a level of the group, d_e outward in the plane
+ * of the layer there (level and d_e chosen per group so that the closure
+ * tetrahedra's thinnest angle, below, is largest: with uniform layers the
+ * group's middle and about half its height out, with layers growing away
+ * from S nearer the thin ones; d_e at most half the edge and
+ * GapFraction of the distance to the nearest
  * obstacle and of the free distance outward, and lowered where the border
  * turns inward so that neighbouring fans keep 20 degrees apart). Pyramids of
  * a group meet face to face; between two groups a seam tetrahedron (a_K,
@@ -82,11 +85,12 @@
  * turning inward); between groups two seam tetrahedra per piece join the
  * rows of W. Such a tetrahedron sees a layer of thickness t from its chord
  * at distance d, at an angle of about t d / (d^2 + dz^2), dz the layer's
- * height over the chord: hence the apices at about half the group's height
- * out and the arc close to a. With 5 layers per group the closure
- * tetrahedra stay above 10 degrees (10.9-14.0 on the validation cases, 5.5-7.7
- * with the apices half an edge out); with N layers in a group the bound is
- * about 1/N radians (8 layers: 6.5). The void then sees only
+ * height over the chord: hence the apices' level and offset per group and
+ * the arc close to a. With 5 layers per group the closure tetrahedra stay
+ * above 10 degrees (10.5-12.8 on the validation cases, 5.5-7.7 with the
+ * apices half an edge out at the group's middle; 10.9 on the bundled cone
+ * with layers growing by 1.2, 7.5 at the middle); with N uniform layers in
+ * a group the bound is about 1/N radians (8 layers: 6.6). The void then sees only
  * triangles about as large as S's border edges: the caps, the top and bottom
  * triangle of each fan and wedge ((b_N, a_N, P_e), (a_N, W_j, W_j+1)) and a
  * band of triangles between consecutive rows of apices, each quad of it

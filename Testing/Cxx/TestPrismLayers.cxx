@@ -1093,6 +1093,9 @@ TEST(PrismLayers, EachSideOfATallEnoughStackGetsItsOwnClosure)
   // is about 1/N radians for N layers in a group). The same plane cut to an
   // L: where its border turns inward the two fans' apices are far from the
   // notch's column, 9.4 degrees, 13.7 with a wedge point on the bisector.
+  // Layers growing by 1.2 away from S: with the apices at the group's middle
+  // its thinnest layers, next to S, are the farthest from them (8.8
+  // degrees); the apices stand nearer the thin end.
   // Eight layers on 0.06 on the cone (tapered to half a border edge at the
   // border: one group per side; closure 6.5 degrees): TetGen's tetrahedra
   // against the band of triangles between the two sides' rows of apices,
@@ -1109,14 +1112,16 @@ TEST(PrismLayers, EachSideOfATallEnoughStackGetsItsOwnClosure)
     const char* Label;
     Surface S;
     int Layers;
-    double Total, Closure;
+    double Total, Closure, Growth = 1.0;
   };
-  for (const Case& c : { Case{ "plane", TiltedPatch(), 5, 0.025, 10.0 }, Case{ "L", TiltedL(), 5, 0.025, 10.0 },
+  for (const Case& c : { Case{ "plane", TiltedPatch(), 5, 0.025, 10.0 },
+         Case{ "plane, growth 1.2", TiltedPatch(), 5, 0.025, 10.0, 1.2 }, Case{ "L", TiltedL(), 5, 0.025, 10.0 },
          Case{ "cone", ConeSector(), 5, 0.025, 10.0 }, Case{ "cone, 8 layers", ConeSector(), 8, 0.06, 6.0 } })
   {
     ar::CavityOptions o;
     o.Layers.NumberOfLayers = c.Layers;
     o.Layers.TotalThickness = c.Total;
+    o.Layers.GrowthRatio = c.Growth;
     ar::CavityRemesh r;
     std::string error;
     ASSERT_TRUE(ar::RemeshLocalCavity(cube, c.S.Points.data(), c.S.Points.size() / 3, c.S.Triangles.data(),

@@ -48,9 +48,6 @@ constexpr double MinAreaRatio = 0.5;
 /// Each side gets its own closure groups where every border column is at
 /// least this many border edges high on both sides (NumberPoints).
 constexpr double SideGroupsAbove = 0.25;
-/// A fan's apex stands at most about this fraction of its group's height out
-/// from the border edge with uniform layers (OffsetApices chooses per group).
-constexpr double ApexGroupFraction = 0.5;
 /// A wedge at a border point whose chord between the two fans' apices
 /// passes farther than this many arc radii from the point gets a point on
 /// its bisector (PlaceWedges).
@@ -247,17 +244,18 @@ private:
   /// Signed distance from S of column index k in [lo, hi]: requested, and at point v.
   double requested(int k) const { return k >= 0 ? z[k] : -z[-k]; }
   double height(std::int64_t v, int k) const { return k >= 0 ? z[k] * H[2 * v] / Z : -z[-k] * H[2 * v + 1] / Z; }
-  /// Group g's apices stand at ApexLevel[g] of its height at the column.
-  double groupMid(std::int64_t v, int g) const
+  /// The height of group g's apices at point v's column (apexLevel[g] of
+  /// the group's height there).
+  double apexHeight(std::int64_t v, int g) const
   {
     return height(v, K[g]) + apexLevel[g] * (height(v, K[g + 1]) - height(v, K[g]));
   }
   /// Layer and side of the layer between column indices k and k + 1.
   static int layerOf(int k) { return k >= 0 ? k : -k - 1; }
   static int sideOf(int k) { return k >= 0 ? 1 : -1; }
-  /// Point v's column at group g's mid-height.
-  Vec columnAt(std::int64_t v, int g) const { return Vec(X[v] + groupMid(v, g) * normal[v]); }
-  /// The apex beside the middle of edge (a, b) at group g's mid-height: d_e
+  /// Point v's column at the height of group g's apices.
+  Vec columnAt(std::int64_t v, int g) const { return Vec(X[v] + apexHeight(v, g) * normal[v]); }
+  /// The apex beside the middle of edge (a, b) at its group's apex height: d_e
   /// out in the plane of the column points there.
   Vec apexOf(std::size_t edge, int g) const
   {
@@ -805,7 +803,7 @@ void LayerBuild::OffsetApices()
   // with layers growing away from S nearer the thin ones (5 layers growing
   // by 1.2: 8.8 degrees at the middle, 13 near the thin end).
   apexLevel.assign(nGroups, 0.5);
-  apexOut.assign(nGroups, ApexGroupFraction);
+  apexOut.assign(nGroups, 0.5);
   for (int g = 0; g < nGroups; ++g)
   {
     const double z0 = requested(K[g]), span = requested(K[g + 1]) - z0;
@@ -1016,12 +1014,11 @@ bool LayerBuild::PlaceWedges()
         // The arc's points no farther out than the apices' offsets: a piece's
         // tetrahedra see a's layers from the chord W_j W_j+1, and seen from
         // farther than the offset they flatten.
-        w.Rho[g] = std::min(0.5 * (project(p1 - X[a]).norm() + project(p2 - X[a]).norm()),
-          0.5 * (dEdge[e] + dEdge[static_cast<std::size_t>(f)]));
+        const Vec r1 = project(p1 - X[a]), r2 = project(p2 - X[a]);
+        w.Rho[g] = std::min(0.5 * (r1.norm() + r2.norm()), 0.5 * (dEdge[e] + dEdge[static_cast<std::size_t>(f)]));
         w.Pieces = std::max(w.Pieces, static_cast<int>(std::ceil(w.Gamma[g] / (0.5 * Pi) - 1e-9)));
         // A narrow wedge whose chord passes far out (a border turning inward)
         // gets a point on its bisector.
-        const Vec r1 = project(p1 - X[a]), r2 = project(p2 - X[a]);
         if (r1.cross(r2).norm() > FarChord * w.Rho[g] * (r2 - r1).norm())
         {
           w.Pieces = std::max(w.Pieces, 2);

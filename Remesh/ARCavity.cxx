@@ -1328,9 +1328,9 @@ void CavityRun::AddOffsetPoints()
 {
   offsetPoints = 0;
   const double spacing = options.OffsetPointSpacing;
-  // The triangles the points stand on (complex triangles, oriented: with
-  // layers the caps' right-hand normal points into the void) and the sides
-  // they stand on (+1 along the normal, -1 against it, 0 both).
+  // The complex's triangles the points stand on: S's, on both sides, or
+  // with layers the caps', on their outer side (their right-hand normal
+  // points into the void).
   std::vector<std::size_t> base;
   std::vector<char> isBase(plc.TriangleMarkers.size(), 0);
   for (std::size_t t = nShell; t < plc.TriangleMarkers.size(); ++t)

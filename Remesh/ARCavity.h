@@ -33,10 +33,10 @@
  * cavity's boundary nodes, S's edge length at S's nodes and at the free
  * points. A hole point in each kept region next to the cavity stops TetGen
  * from filling kept space. The refill's input is put in a canonical order
- * (cavity-boundary nodes sorted by coordinates,
- * mean edge lengths summed exactly), so the same cavity gives the same refill
- * whatever the numbering of V: this is what lets a distributed run, which
- * gathers the cavity to one rank, equal the serial one.
+ * (cavity-boundary nodes sorted by coordinates, mean edge lengths summed
+ * exactly), so the same cavity gives the same refill whatever the numbering
+ * of V: this is what lets a distributed run, which gathers the cavity to one
+ * rank, equal the serial one.
  */
 #ifndef ARCavity_h
 #define ARCavity_h
@@ -128,20 +128,20 @@ struct CavityOptions
   /// (sqrt(2/3) of the triangle's mean edge h) above the triangles'
   /// centroids, kept in triangle order where no earlier one is within this
   /// many mean edges, no other face of the complex meets a box of half-width
-  /// h about it (the box holds the segment out from the centroid) and no S
-  /// triangle one of half-width 0.55 h (a plane S at distance h does not:
-  /// 0.55 sqrt(3) < 1). TetGen's
-  /// size is the radius of a ball around each point that no new point may
-  /// enter, so on its own it places the first points off S 1.1-1.7 of S's
-  /// edges away: the cells across S (across the shock) were
-  /// coarser than along it. With these points the tetrahedra on S are about
-  /// regular (the longest edge at S's nodes 1.3-1.5 of the edge instead of
-  /// 1.6-1.7). With layers the caps are curved like S (a cone's inner side
-  /// is a bowl seen from the void) and TetGen, which may not split them
-  /// (-Y), filled the space between a concave cap and its chords with
-  /// slivers of four cap points (3.9 degrees on a cone sector with 8
-  /// layers); the points off the caps give it the tetrahedra on them
-  /// instead (2-4 % more nodes on the validation cones). 0: off.
+  /// h about it (the box holds the segment out from the centroid) and no
+  /// triangle of S (of the caps) one of half-width 0.55 h (a plane at
+  /// distance h does not: 0.55 sqrt(3) < 1). TetGen's size is the radius of a
+  /// ball around each point that no new point may enter, so on its own it
+  /// places the first points off S 1.1-1.7 of S's edges away: the cells
+  /// across S (across the shock) were coarser than along it. With these
+  /// points the tetrahedra on S are about regular (the longest edge at S's
+  /// nodes 1.3-1.5 of the edge instead of 1.6-1.7). With layers the caps are
+  /// curved like S (a cone's inner side is a bowl seen from the void) and
+  /// TetGen, which may not split them (-Y), filled the space between a
+  /// concave cap and its chords with slivers of four cap points (3.9 degrees
+  /// on a cone sector with 8 layers); the points off the caps give it the
+  /// tetrahedra on them instead (2-4 % more nodes on the validation cones).
+  /// 0: off.
   double OffsetPointSpacing = 0.9;
   /// Prism layers on both sides of S (ARPrismLayers.h); NumberOfLayers = 0
   /// (the default) leaves them off and the refill is tetrahedra only. When on:

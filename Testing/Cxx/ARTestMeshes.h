@@ -2,9 +2,11 @@
 #ifndef ARTestMeshes_h
 #define ARTestMeshes_h
 
+#include "ARCavity.h"
 #include "ARTetGeometry.h"
 #include "ARTetMesh.h"
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <utility>
@@ -86,6 +88,25 @@ inline std::vector<double> BoxTriangles()
       for (const int k : { f[0], f[t + 1], f[t + 2] })
         b.insert(b.end(), c[k], c[k] + 3);
   return b;
+}
+/// The smallest dihedral angle of a cavity remesh's new tetrahedra: [0] the
+/// layer stack's closure tetrahedra, [1] TetGen's (180 where there are none).
+inline std::array<double, 2> ClosureAndRefillAngles(const ar::CavityRemesh& r)
+{
+  std::array<double, 2> worst = { 180.0, 180.0 };
+  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
+  {
+    if (r.SourceCell[t] >= 0)
+      continue;
+    const std::int64_t* q = &r.Mesh.Tetrahedra[4 * t];
+    double angles[6];
+    ar::TetDihedralAngles(&r.Mesh.Points[3 * q[0]], &r.Mesh.Points[3 * q[1]], &r.Mesh.Points[3 * q[2]],
+      &r.Mesh.Points[3 * q[3]], angles);
+    const bool closure = t < r.TetrahedronLayer.size() && r.TetrahedronLayer[t] >= 0;
+    double& w = worst[closure ? 0 : 1];
+    w = std::min(w, *std::min_element(angles, angles + 6));
+  }
+  return worst;
 }
 }
 

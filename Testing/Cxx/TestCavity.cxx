@@ -106,18 +106,8 @@ void ExpectValid(const ar::TetMesh& in, const ar::CavityRemesh& r)
 
 double MinNewDihedral(const ar::CavityRemesh& r)
 {
-  double worst = 180.0;
-  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
-  {
-    if (r.SourceCell[t] >= 0)
-      continue;
-    const std::int64_t* v = &r.Mesh.Tetrahedra[4 * t];
-    double a[6];
-    ar::TetDihedralAngles(&r.Mesh.Points[3 * v[0]], &r.Mesh.Points[3 * v[1]], &r.Mesh.Points[3 * v[2]],
-      &r.Mesh.Points[3 * v[3]], a);
-    worst = std::min(worst, *std::min_element(a, a + 6));
-  }
-  return worst;
+  const auto worst = artest::ClosureAndRefillAngles(r);
+  return std::min(worst[0], worst[1]);
 }
 
 ar::CavityRemesh Remesh(const ar::TetMesh& v, const Surface& s, const ar::CavityOptions& o = {})

@@ -25,6 +25,7 @@
 namespace
 {
 using artest::BoxTriangles;
+using artest::ClosureAndRefillAngles;
 using artest::Grid;
 using artest::KuhnCube;
 using artest::Surface;
@@ -488,24 +489,6 @@ Surface ConeSector()
         out.Triangles.insert(out.Triangles.end(), { first[j] + a, first[j + 1] + b + 1, first[j + 1] + b }), ++b;
     }
   return out;
-}
-
-/// The smallest dihedral angle of the cavity's closure tetrahedra and of TetGen's.
-std::array<double, 2> ClosureAndRefillAngles(const ar::CavityRemesh& r)
-{
-  std::array<double, 2> worst = { 180.0, 180.0 };
-  for (std::size_t t = 0; t < r.SourceCell.size(); ++t)
-  {
-    if (r.SourceCell[t] >= 0)
-      continue;
-    const std::int64_t* q = &r.Mesh.Tetrahedra[4 * t];
-    double angles[6];
-    ar::TetDihedralAngles(&r.Mesh.Points[3 * q[0]], &r.Mesh.Points[3 * q[1]], &r.Mesh.Points[3 * q[2]],
-      &r.Mesh.Points[3 * q[3]], angles);
-    double& w = worst[r.TetrahedronLayer[t] >= 0 ? 0 : 1];
-    w = std::min(w, *std::min_element(angles, angles + 6));
-  }
-  return worst;
 }
 
 /// Groups of layers under one apex: the pyramids' apices per border edge of S.

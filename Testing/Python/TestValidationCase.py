@@ -106,13 +106,11 @@ THIN_STACKS = {"cone15Ma3": (0.03, 8)}
 THIN_CLOSURE_FLOOR = 6.0
 
 
-
 def closure_angle(out):
     """The smallest dihedral angle of the layer stack's closure tetrahedra
-    (tetrahedra with a LayerSide), degrees."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    types = vtk_to_numpy(out.VTKObject.GetCellTypesArray())
-    closure = (types == 10) & (np.asarray(out.CellData["LayerSide"]) != 0)
+    (tetrahedra with a LayerSide), degrees; 0 where there are none."""
+    types = np.asarray(out.CellTypes)
+    closure = (types == artest.VTK_TETRA) & (np.asarray(out.CellData["LayerSide"]) != 0)
     return float(np.asarray(out.CellData["MinDihedralAngle"])[closure].min()) if closure.any() else 0.0
 
 
@@ -380,11 +378,12 @@ if not two_d and case not in NO_PRISM_CASES:
         total, layers = THIN_STACKS[case]
         thin = artest.fetch(AdaptToShocks(Input=reader, LayerType="Prisms", TotalThickness=total,
                                           NumberOfLayers=layers))
+        thin_closure = closure_angle(thin)
         check(f(thin, "Prisms") > 0 and f(thin, "MinDihedralAngleNew") >= 10.0
-              and closure_angle(thin) >= THIN_CLOSURE_FLOOR,
+              and thin_closure >= THIN_CLOSURE_FLOOR,
               "%s, %d prism layers on %g per side: the smallest angle of TetGen's tetrahedra is %.1f deg (at "
               "least 10), of the closure's %.1f (at least %.1f)"
-              % (case, layers, total, f(thin, "MinDihedralAngleNew"), closure_angle(thin), THIN_CLOSURE_FLOOR))
+              % (case, layers, total, f(thin, "MinDihedralAngleNew"), thin_closure, THIN_CLOSURE_FLOOR))
         artest.check_valid_mesh("%s, %d prism layers" % (case, layers), src, thin)
 artest.say("%s: nodes %d -> %d (%d new, %d removed), cells %d -> %d"
            % (case, f(out, "InputNodes"), f(out, "OutputNodes"), f(out, "NewNodes"), f(out, "RemovedNodes"),

@@ -16,7 +16,16 @@ namespace ar
  * Remeshes a triangulated surface (open or closed, one or several pieces)
  * to nearly equilateral triangles of edge length `edgeLength` with CGAL's
  * isotropic remeshing (8 iterations). Border edges are first split to the
- * target length and then kept in place, so the outline does not shrink.
+ * target length (from a cut input, below: those over 4/3 of it) and then
+ * kept in place, so the outline does not shrink.
+ *
+ * CGAL halves edges over 4/3 of the target and keeps shorter ones, so from
+ * an input whose edges are 4.6 targets long it ends at 1.15 of the target:
+ * the size asked for a refined S was not the size made. Where the result's
+ * median edge is over 1.1 targets and the input's at least 1.5, the input
+ * is cut into n x n per triangle (n its median edge over the target,
+ * rounded up from a quarter below) and remeshed again, and of the two the
+ * result whose median edge is nearer the target is returned.
  * The new points are projected on the input's triangles (their closest
  * point, as CGAL's own projection, but each query started from where the
  * point lay before instead of a kd-tree search).

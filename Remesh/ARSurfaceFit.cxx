@@ -1657,6 +1657,39 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
     {
       why += std::string(why.empty() ? "" : "; ") + SurfaceTemplateName(order[k]) + ": " + e;
     }
+    const double* axis = options.GraphAxis;
+    if (order[k] == SurfaceTemplate::Quadric && !extruded && options.AutomaticAxis &&
+      axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2] > 0.0)
+    {
+      // The quadric about the given axis too, through the points' weighted
+      // centroid; the better of the two kept.
+      o.AutomaticAxis = false;
+      std::copy(axis, axis + 3, o.AxisDirection);
+      double sw = 0.0;
+      std::fill(o.AxisOrigin, o.AxisOrigin + 3, 0.0);
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        const double wj = weights ? weights[j] * weights[j] : 1.0;
+        sw += wj;
+        for (int c = 0; c < 3; ++c)
+        {
+          o.AxisOrigin[c] += wj * points[3 * j + c];
+        }
+      }
+      for (int c = 0; c < 3 && sw > 0.0; ++c)
+      {
+        o.AxisOrigin[c] /= sw;
+      }
+      SurfaceFitResult about;
+      std::string ignored;
+      if ((robust ? FitSurfaceRobust(points, weights, n, o, about, ignored)
+                  : FitSurface(points, weights, n, o, about, ignored)) &&
+        (!ok[k] || about.RMSResidual < fits[k].RMSResidual))
+      {
+        fits[k] = about;
+        ok[k] = true;
+      }
+    }
     if (residuals)
     {
       residuals[k] = ok[k] ? fits[k].RMSResidual : std::numeric_limits<double>::quiet_NaN();

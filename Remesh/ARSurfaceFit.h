@@ -92,6 +92,14 @@ struct SurfaceFitOptions
   /// contains the axis however thin the mesh is, and a quadric or quartic
   /// has only the monomials in x (z = f(x): a cylinder over the axis).
   int ExtrusionAxis = -1;
+  /// FitSurfaceAutomatic with AutomaticAxis: a second frame for the quadric,
+  /// z along this direction (not normalised; zero: none), the better of the
+  /// two fits kept. The principal frame of a quarter of a bow shock (a bowl
+  /// spanning 90 degrees about the flow) stands 40 degrees off the flow,
+  /// and its paraboloid missed the vertex on the stagnation line by 1.4
+  /// cells; about the flow (vtkQuadricFit: the Domain's mean velocity), as
+  /// the paper fits its capsule's bow shock, by 0.3.
+  double GraphAxis[3] = { 0.0, 0.0, 0.0 };
 };
 
 struct SurfaceFitResult
@@ -168,7 +176,9 @@ bool FitSurfaceRobust(const double* points, const double* weights, std::size_t n
 /// mesher, so the simpler template is kept (a plane shock is not fitted by
 /// a cone of half-angle 89 degrees). `residuals`, if given, gets the four
 /// RMS residuals, plane, cone, quadric, quartic (NaN where that template was
-/// not tried or could not be fitted). The quartic is tried only on points
+/// not tried or could not be fitted). The quadric is also fitted about
+/// options.GraphAxis where one is given (the lower residual kept). The
+/// quartic is tried only on points
 /// that lie on two planes normal to a coordinate axis (a one-cell-deep
 /// mesh's front and back); those are fitted with ExtrusionAxis set to that
 /// axis: the plane, the quadric and the quartic z = f(x) extruded along it

@@ -684,6 +684,63 @@ TEST(SurfaceFit, AutomaticTemplatePicksTheShape)
   EXPECT_TRUE(std::isnan(res[0]) && std::isnan(res[1]) && std::isnan(res[2]));
 }
 
+TEST(SurfaceFit, AutomaticQuadricAboutTheFlowOnAQuarterBowShock)
+{
+  // A quarter of a sphere's bow shock (Billig's hyperboloid about +x, Mach
+  // 3, radius 0.5: vertex at x = -0.6025), y, z >= 0 as a quarter domain
+  // between two symmetry planes holds it, out to r = 0.95; points scattered
+  // by 0.006 about cells of 0.035. The principal frame stands about 40
+  // degrees off the flow, and its paraboloid misses the vertex on the axis
+  // (sphereMa3 of the validation matrix: 1.4 cells); the quadric about the
+  // flow (GraphAxis) finds it.
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> ur(0.0, 1.0), uphi(0.0, 0.5 * Pi);
+  std::normal_distribution<double> noise(0.0, 0.006);
+  const double rc = 0.723, cot2 = 8.0, tanMu = std::sqrt(1.0 / 8.0), x0 = -0.6025, size = 0.035;
+  auto shockX = [&](double r) { return x0 + rc * cot2 * (std::sqrt(1.0 + (r * tanMu / rc) * (r * tanMu / rc)) - 1.0); };
+  Cloud c;
+  for (int i = 0; i < 3000; ++i)
+  {
+    const double r = 0.95 * std::sqrt(ur(rng)), phi = uphi(rng);
+    c.Add({ shockX(r) + noise(rng), r * std::cos(phi) + noise(rng), r * std::sin(phi) + noise(rng) }, 1.0 / size);
+  }
+  auto vertex = [&](const ar::SurfaceFitResult& f) {
+    // where the surface crosses the axis near the true vertex
+    double best = std::numeric_limits<double>::quiet_NaN(), previous = 0.0;
+    for (int k = 0; k <= 4000; ++k)
+    {
+      const double x = -0.8 + 0.4 * k / 4000.0, p[3] = { x, 0.0, 0.0 };
+      const double d = ar::SurfaceDistance(f, p);
+      if (k > 0 && (d > 0.0) != (previous > 0.0) &&
+        (std::isnan(best) || std::abs(x - x0) < std::abs(best - x0)))
+      {
+        best = x;
+      }
+      previous = d;
+    }
+    return best;
+  };
+  ar::SurfaceFitOptions o;
+  ar::SurfaceFitResult principal, about;
+  std::string error;
+  double res[4];
+  ASSERT_TRUE(ar::FitSurfaceAutomatic(c.X.data(), c.W.data(), c.Size(), o, true, size, principal, error, res))
+    << error;
+  const double residualPrincipal = res[2];
+  o.GraphAxis[0] = 2.9; // a free stream's velocity
+  o.GraphAxis[1] = 0.02;
+  ASSERT_TRUE(ar::FitSurfaceAutomatic(c.X.data(), c.W.data(), c.Size(), o, true, size, about, error, res)) << error;
+  const double vp = vertex(principal), va = vertex(about);
+  std::printf("quarter bow shock: principal frame %s, vertex %+.4f off (rms %.4f); about the flow %s, vertex %+.4f "
+              "off (rms %.4f)\n",
+    ar::SurfaceTemplateName(principal.Template), vp - x0, residualPrincipal, ar::SurfaceTemplateName(about.Template),
+    va - x0, res[2]);
+  EXPECT_EQ(about.Template, ar::SurfaceTemplate::Quadric);
+  EXPECT_LT(res[2], residualPrincipal) << "the quadric about the flow kept for its lower residual";
+  EXPECT_LT(std::abs(va - x0), 0.5 * size) << "the vertex within half a cell";
+  EXPECT_GT(std::abs(vp - x0), 2.0 * std::abs(va - x0)) << "what the second frame is for";
+}
+
 TEST(SurfaceFit, RobustScaleFollowsTheLocalSize)
 {
   // A half cone whose mesh grows five-fold along the generators (l from 0.01

@@ -4,7 +4,7 @@
 Usage (from anywhere):
     python3 Data/make_validation_case.py CASE_NAME OUTPUT.vtu [--keep DIR] [--refine F]
     python3 Data/make_validation_case.py --list
-  CASE_NAME   one of the eight cases below
+  CASE_NAME   one of the cases below (--list)
   OUTPUT.vtu  the zlib-compressed binary .vtu written (Data/foam_vtu.py)
   --keep DIR  build the OpenFOAM case in DIR and keep it (DIR must not exist,
               be empty, or hold an earlier case of this script, which is then
@@ -78,6 +78,17 @@ walls.  The meshes are graded towards the body.
                  cells' own.  The shock is ~2.7x wider (10-90% of the p jump
                  0.026 across the shock at x = 0.2 instead of 0.0097).
   cone15Ma3o1    cone15Ma3 (the same mesh) with first-order reconstruction.
+  sphereMa3      3-D blunt body: Mach 3 over a sphere of radius 0.5 centred at
+                 the origin, quarter domain (symmetry planes y = 0 and z = 0:
+                 symmetryY, symmetryZ), front half only: the outlet is the
+                 plane x = 0, where the flow is supersonic.  The inflow
+                 boundary is the sphere of radius 1.25 about (0.45, 0, 0),
+                 0.15-0.21 upstream of Billig's bow shock of a sphere
+                 (standoff 0.143 R exp(3.24 / M^2) = 0.102, shock radius of
+                 curvature 1.143 R exp(0.54 / (M - 1)^1.2)).  Gmsh
+                 tetrahedra (17954), size 0.03 at the wall growing linearly
+                 with the distance from it to 0.07 at 0.5: nothing finer at
+                 the shock (about 3 cells in the standoff).
 
 Schemes and time steps: the second-order cases use what
 Data/make_wedge15Ma5.sh found to give steady rhoCentralFoam solutions: the
@@ -95,6 +106,9 @@ The initial field is the free stream everywhere (impulsive start).  endTime:
   cone25Ma2      2.0: slow, the waves running upstream in the shock layer
                  (u - c ~ 0.45 at Mach 1.4 on the cone) cross it in ~2.2; the
                  rms change falls by ~0.7 per 0.1 to 0.033% at t = 2.
+  sphereMa3      3.0 (18 R/U; steady from about 2.5: rms dp 0.0036 % between
+                 the last writes, the relief of the third dimension flushes
+                 the stagnation region faster than the cylinder's)
   cylinderMa3    9.0 (54 R/U): the impulsive start leaves a pocket of hot gas
                  (T 3.5 instead of T0 = 2.8) at the stagnation point, where the
                  flow is slow; as it is flushed out the bow shock creeps
@@ -125,6 +139,9 @@ of the planes or meridians, see the physics check):
                                                                          (pitot 12.061)
   wedge10Ma3o1   7000 hexahedra          28 s    7311  0         0       27.383   27.859
   cone15Ma3o1    20646 tetrahedra        66 s    4791  0.0078%   0.037%  25.259   25.932
+  sphereMa3      17954 tetrahedra       142 s    8900  0.0036%   0.20%   standoff 0.1105 (0.221 R;
+                                                                         Billig 0.1025), p0'/p1 12.118
+                                                                         (pitot 12.061)
 
 Field data of the .vtu (doubles):
   all       Gamma, GasConstant (from constant/thermophysicalProperties),
@@ -142,6 +159,10 @@ Field data of the .vtu (doubles):
             the "cone" patch by Data/convert_cone20Ma2p5.py's cone_geometry),
             ShockAngleTaylorMaccoll (deg, Data/taylor_maccoll.py),
             ConePressureRatioTaylorMaccoll, ShockPressureRatioTaylorMaccoll
+  sphere    SphereCentre, SphereRadius (the nominal values, checked within
+            1e-6 against a sphere fitted to the points of the "sphere"
+            patch), NormalShockPressureRatio, StagnationPressureRatio,
+            ShockStandoffBillig (Billig's sphere correlation), as the cylinder's
   cylinder  CylinderCentre (z at mid-span), CylinderRadius, CylinderAxis
             (the nominal values, checked within 1e-6 against a circle fitted
             to the points of the "cylinder" patch),
@@ -158,7 +179,8 @@ the flow at 12 stations 0.15 .. 0.9 of the body length (the outermost crossing
 of p = (p1 + p2)/2, p2 the exact value behind the shock, linear in the cells;
 a line through the tip fitted), on the mid-span plane (the 3-D slab: also at
 +-span/4) or on the meridians 0, 45, 90 deg of the quarter cone; each must be
-within 1 deg of the theory (1.5 deg for the first-order cases).  Cylinder: the
+within 1 deg of the theory (1.5 deg for the first-order cases).  Cylinder
+and sphere: the
 standoff on the stagnation line (the same crossing with the normal shock's p2)
 within 25% of Billig's correlation and the stagnation-point pressure within 3%
 of the pitot formula.
@@ -188,7 +210,7 @@ SHOCK_ANGLE_TOL = {2: 1.0, 1: 1.5}   # deg, measured vs theory, by scheme order
 GAMMA = 1.4              # the normalised gas (checked again from the case files)
 
 # ---------------------------------------------------------------------------- the cases
-# Common keys: kind (wedge | cone | cylinder), mesher, mach, order (1 | 2),
+# Common keys: kind (wedge | cone | cylinder | sphere), mesher, mach, order (1 | 2),
 # end (endTime), write (writeInterval), maxco.  The second- and first-order
 # variants of a case share their geometry and mesh parameters.
 _WEDGE10 = dict(kind="wedge", mesher="blockMesh", mach=3.0, angle=10.0,
@@ -265,6 +287,12 @@ CASES = {
                             hmin=0.007, hmax=0.02, dgrow=0.1, end=0.8, write=0.1),
     "cone20Ma4": dict(_TET_CONE, mach=4.0, angle=20.0, radius=0.7,
                       band=(18.5, 33.0), h0=0.015, h1=0.02, hmax=0.08, end=0.8, write=0.1),
+    # Added on 7 December (fifth session): the 3-D blunt body, the paper's
+    # capsule in miniature, which nobody had tried: Mach 3 over a sphere on
+    # tetrahedra graded from the wall only (nothing finer at the shock).
+    "sphereMa3": dict(kind="sphere", mesher="gmsh3d", mach=3.0, order=2, radius=0.5,
+                      outer=(0.45, 1.25), hmin=0.03, hmax=0.07, dgrow=0.5,
+                      end=3.0, write=0.25, maxco=0.3),
 }
 
 
@@ -279,6 +307,13 @@ def billig(mach, radius):
     delta = 0.386 * radius * math.exp(4.67 / mach ** 2)
     rc = 1.386 * radius * math.exp(1.8 / (mach - 1.0) ** 0.75)
     return delta, rc, math.asin(1.0 / mach)
+
+
+def billig_sphere(mach, radius):
+    """Billig's (1967) bow shock of a sphere: (standoff, shock radius of
+    curvature at the axis)."""
+    return (0.143 * radius * math.exp(3.24 / mach ** 2),
+            1.143 * radius * math.exp(0.54 / (mach - 1.0) ** 1.2))
 
 
 def billig_shock_x(y, mach, radius):
@@ -308,8 +343,9 @@ def theory(c):
                                                 % (tm.shock_angle, tm.cone_p_p1))
     beta = 90.0
     jump = theta_beta_mach.oblique_shock_jump(c["mach"], beta, GAMMA)
+    standoff = (billig_sphere if c["kind"] == "sphere" else billig)(c["mach"], c["radius"])[0]
     return beta, jump.p2_p1, ("normal shock p2/p1 = %.4f, pitot p0'/p1 = %.4f, Billig standoff %.4f"
-                              % (jump.p2_p1, pitot_ratio(c["mach"]), billig(c["mach"], c["radius"])[0]))
+                              % (jump.p2_p1, pitot_ratio(c["mach"]), standoff))
 
 
 # ---------------------------------------------------------------------------- OpenFOAM files
@@ -343,6 +379,9 @@ def patches_of(c):
         return p
     if c["kind"] == "cone":
         return {"inlet": "inflow", "farfield": "inflow", "outlet": "outflow", "cone": "wall",
+                "symmetryY": "symmetryPlane", "symmetryZ": "symmetryPlane"}
+    if c["kind"] == "sphere":
+        return {"inlet": "inflow", "outlet": "outflow", "sphere": "wall",
                 "symmetryY": "symmetryPlane", "symmetryZ": "symmetryPlane"}
     return {"inlet": "inflow", "outlet": "outflow", "cylinder": "wall",
             "symmetry": "symmetryPlane", "frontAndBack": "empty"}
@@ -636,6 +675,18 @@ Physical Volume("fluid") = {ext[1]};
        math.cos(t), math.sin(t), c["hmin"], c["hmax"], c["dgrow"], layers, groups)
 
 
+# The Gmsh options of the 3-D meshes (the size from the background field
+# alone; deterministic with one thread).
+GMSH_VOLUME_OPTIONS = """Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+Mesh.Algorithm = 6;       // Frontal-Delaunay surfaces
+Mesh.Algorithm3D = 1;     // Delaunay volume (deterministic with one thread)
+Mesh.Optimize = 1;
+Mesh.OptimizeThreshold = 0.6;   // fewer slivers: a larger stable time step
+"""
+
+
 def gmsh_cone(c):
     """Gmsh .geo of the quarter domain around the cone (as Data/make_cone20Ma2p5.sh)."""
     return """// Quarter domain (y >= 0, z >= 0) around a sharp %g deg cone, tip at the origin, axis +x.
@@ -684,15 +735,53 @@ Field[2].F = Sprintf("%%g", hc);
 Field[3] = Min;
 Field[3].FieldsList = {1, 2};
 Background Field = 3;
-Mesh.MeshSizeExtendFromBoundary = 0;
-Mesh.MeshSizeFromPoints = 0;
-Mesh.MeshSizeFromCurvature = 0;
-Mesh.Algorithm = 6;       // Frontal-Delaunay surfaces
-Mesh.Algorithm3D = 1;     // Delaunay volume (deterministic with one thread)
-Mesh.Optimize = 1;
-Mesh.OptimizeThreshold = 0.6;   // fewer slivers: a larger stable time step
 """ % (c["angle"], c["x0"], c["x1"], c["radius"], c["angle"], c["h0"], c["h1"], c["grow"],
-       c["hmax"], c["band"][0], c["band"][1])
+       c["hmax"], c["band"][0], c["band"][1]) + GMSH_VOLUME_OPTIONS
+
+
+def gmsh_sphere(c):
+    """Gmsh .geo of the quarter of the front half of the domain around a sphere."""
+    xc, ro = c["outer"]
+    return """// Quarter domain (y >= 0, z >= 0), front half (x <= 0: the outlet plane, where
+// the flow is supersonic) around a sphere of radius R at the origin; the inflow
+// boundary: a sphere of radius Ro about (xc, 0, 0), 0.15 or more upstream of
+// Billig's bow shock.
+SetFactory("OpenCASCADE");
+R = %.12g; xc = %.12g; Ro = %.12g;
+Sphere(1) = {xc, 0, 0, Ro};
+Box(2) = {xc - Ro - 1, 0, 0, Ro - xc + 1, Ro + 1, Ro + 1};
+BooleanIntersection(3) = { Volume{1}; Delete; }{ Volume{2}; Delete; };
+Sphere(4) = {0, 0, 0, R};
+BooleanDifference(5) = { Volume{3}; Delete; }{ Volume{4}; Delete; };
+
+e = 1e-6; B = Ro + 1;
+sOut() = Surface In BoundingBox{-e, -e, -e, e, B, B};
+sSymY() = Surface In BoundingBox{-B, -e, -e, e, e, B};
+sSymZ() = Surface In BoundingBox{-B, -e, -e, e, B, e};
+sBody() = Surface In BoundingBox{-R - e, -e, -e, e, R + e, R + e};
+sBody() -= {sOut(), sSymY(), sSymZ()};
+sIn() = Surface{:};
+sIn() -= {sOut(), sSymY(), sSymZ(), sBody()};
+If (#sOut() != 1 || #sSymY() != 1 || #sSymZ() != 1 || #sBody() != 1 || #sIn() != 1)
+  Error("unexpected boundary surfaces: out %%g symY %%g symZ %%g body %%g in %%g",
+        #sOut(), #sSymY(), #sSymZ(), #sBody(), #sIn());
+  Abort;
+EndIf
+Physical Surface("inlet") = {sIn()};
+Physical Surface("outlet") = {sOut()};
+Physical Surface("sphere") = {sBody()};
+Physical Surface("symmetryY") = {sSymY()};
+Physical Surface("symmetryZ") = {sSymZ()};
+Physical Volume("fluid") = {5};
+
+// size: hmin at the wall, growing linearly with the distance from it to hmax
+// at dgrow (nothing finer at the shock)
+hmin = %g; hmax = %g; dgrow = %g;
+Field[1] = MathEval;
+Field[1].F = Sprintf("Min(%%g, %%g + %%g*Max(0, Sqrt(x*x+y*y+z*z) - %%g))",
+                     hmax, hmin, (hmax - hmin)/dgrow, R);
+Background Field = 1;
+""" % (c["radius"], xc, ro, c["hmin"], c["hmax"], c["dgrow"]) + GMSH_VOLUME_OPTIONS
 
 
 def fix_boundary(path, want):
@@ -888,7 +977,7 @@ def make(name, out, keep_dir, refine=1.0, lts=False):
             run(name, ["blockMesh"], case, "log.blockMesh", env)
         else:
             geo = os.path.join(case, name + ".geo")
-            write(geo, gmsh_wedge(c) if c["kind"] == "wedge" else gmsh_cone(c))
+            write(geo, {"wedge": gmsh_wedge, "cone": gmsh_cone, "sphere": gmsh_sphere}[c["kind"]](c))
             log(name, "gmsh")
             run(name, ["gmsh", "-3", "-format", "msh2", "-nt", "1", geo, "-o", name + ".msh"],
                 case, "log.gmsh")
@@ -1046,6 +1135,29 @@ def convert(args):
                      % (tm.shock_angle, tm.cone_p_p1, tm.shock_p2_p1))
         p_mid = 0.5 * p_in * (1.0 + tm.shock_p2_p1)
         want = tm.shock_angle
+    elif c["kind"] == "sphere":
+        pts = patch_points("sphere")
+        A = np.c_[2 * pts, np.ones(len(pts))]
+        sol = np.linalg.lstsq(A, (pts ** 2).sum(axis=1), rcond=None)[0]
+        centre = sol[:3]
+        rad = float(np.sqrt(sol[3] + centre @ centre))
+        dev = np.abs(np.linalg.norm(pts - centre, axis=1) - rad).max()
+        # Gmsh's wall points lie on the sphere, its triangles inside it: the
+        # points within float32 of it
+        if dev > 1e-6 or abs(rad - c["radius"]) > 1e-6 or np.abs(centre).max() > 1e-6:
+            sys.exit("patch 'sphere' is not the sphere r = %g about the origin (r %.8g, centre %s, dev %.3g)"
+                     % (c["radius"], rad, centre, dev))
+        centre, rad = np.zeros(3), float(c["radius"])
+        p21 = theta_beta_mach.oblique_shock_jump(mach, 90.0, gamma).p2_p1
+        pitot = pitot_ratio(mach, gamma)
+        standoff_b = billig_sphere(mach, rad)[0]
+        fields += [("SphereCentre", centre), ("SphereRadius", (rad,)),
+                   ("NormalShockPressureRatio", (p21,)), ("StagnationPressureRatio", (pitot,)),
+                   ("ShockStandoffBillig", (standoff_b,))]
+        lines.append("sphere      centre (%g, %g, %g), radius %.8g (wall points within %.2g)"
+                     % (tuple(centre) + (rad, dev)))
+        lines.append("shock       normal shock p2/p1 = %.4f, pitot p0'/p1 = %.4f, Billig standoff %.4f"
+                     % (p21, pitot, standoff_b))
     else:
         pts = patch_points("cylinder")
         # centre: least-squares circle through the (x, y) of the wall points
@@ -1118,14 +1230,14 @@ def convert(args):
         print("check       shock angle %.3f deg (mean) vs theory %.3f deg: %+.3f deg (tolerance %g on each) %s"
               % (b_mean, want, b_mean - want, tol, "ok" if ok else "FAILED"))
     else:
-        # stagnation line y = 0 (just inside the domain)
-        o = np.array([centre[0], 1e-6 * rad, centre[2]])
+        # stagnation line y = 0 (z = 0 for the sphere; just inside the domain)
+        o = np.array([centre[0], 1e-6 * rad, centre[2] + (1e-6 * rad if c["kind"] == "sphere" else 0.0)])
         x_s = last_crossing(back, o, np.array([-1.0, 0.0, 0.0]), rad * 1.0001, 10 * rad,
                             0.5 * p_in * (1.0 + p21))
         if x_s is None:
             sys.exit("bow shock not found on the stagnation line")
         standoff = x_s - rad
-        p_stag, valid = probe_p(back, np.array([[centre[0] - rad * 1.0001, 1e-6 * rad, centre[2]]]))
+        p_stag, valid = probe_p(back, np.array([[centre[0] - rad * 1.0001, o[1], o[2]]]))
         ok_s = abs(standoff / standoff_b - 1.0) < 0.25
         ok_p = bool(valid[0]) and abs(p_stag[0] / p_in / pitot - 1.0) < 0.03
         ok = ok_s and ok_p

@@ -994,21 +994,19 @@ bool FitRun::Gather()
     // missed the vertex by 1.4 cells the other way.)
     int association = -1;
     vtkDataArray* u = vtkShockSensor::FindKnownArray(vtkShockSensor::VELOCITY, 3, domain, association);
-    const vtkIdType nu = u ? u->GetNumberOfTuples() : 0;
+    std::vector<double> speed(u ? static_cast<std::size_t>(u->GetNumberOfTuples()) : 0);
     double fastest = 0.0;
-    for (vtkIdType i = 0; i < nu; ++i)
+    for (std::size_t i = 0; i < speed.size(); ++i)
     {
-      const double* v = u->GetTuple3(i);
-      const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      fastest = std::isfinite(speed) ? std::max(fastest, speed) : fastest;
+      speed[i] = vtkMath::Norm(u->GetTuple3(static_cast<vtkIdType>(i)));
+      fastest = std::isfinite(speed[i]) ? std::max(fastest, speed[i]) : fastest;
     }
     vtkARParallel::AllReduceMax(&fastest, 1);
-    for (vtkIdType i = 0; i < nu; ++i)
+    for (std::size_t i = 0; i < speed.size(); ++i)
     {
-      const double* v = u->GetTuple3(i);
-      const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      if (std::isfinite(speed) && speed >= 0.99 * fastest)
+      if (std::isfinite(speed[i]) && speed[i] >= 0.99 * fastest)
       {
+        const double* v = u->GetTuple3(static_cast<vtkIdType>(i));
         meanFlow[0] += v[0];
         meanFlow[1] += v[1];
         meanFlow[2] += v[2];

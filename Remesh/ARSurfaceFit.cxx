@@ -394,7 +394,12 @@ bool FitGraph(const std::vector<Vec3>& pts, const VecX& w, const Principal& pc,
 {
   const SurfaceTemplate t = options.Template;
   Frame frame;
-  if (options.AutomaticAxis)
+  const Vec3 graphAxis = V3(options.GraphAxis);
+  if (options.AutomaticAxis && options.ExtrusionAxis < 0 && graphAxis.norm() > 0.0)
+  {
+    frame = FrameFromAxis(pc.Centroid, graphAxis.normalized()); // through the points' weighted centroid
+  }
+  else if (options.AutomaticAxis)
   {
     frame = PrincipalFrame(pc);
   }
@@ -1645,6 +1650,7 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
   {
     SurfaceFitOptions o = options;
     o.Template = order[k];
+    std::fill(o.GraphAxis, o.GraphAxis + 3, 0.0); // the principal frame first (the graph axis below)
     if (extruded)
     {
       o.ExtrusionAxis = extrusionAxis; // (a caller's own axis stays otherwise)
@@ -1661,25 +1667,9 @@ bool FitSurfaceAutomatic(const double* points, const double* weights, std::size_
     if (order[k] == SurfaceTemplate::Quadric && !extruded && options.AutomaticAxis &&
       axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2] > 0.0)
     {
-      // The quadric about the given axis too, through the points' weighted
-      // centroid; the better of the two kept.
-      o.AutomaticAxis = false;
-      std::copy(axis, axis + 3, o.AxisDirection);
-      double sw = 0.0;
-      std::fill(o.AxisOrigin, o.AxisOrigin + 3, 0.0);
-      for (std::size_t j = 0; j < n; ++j)
-      {
-        const double wj = weights ? weights[j] * weights[j] : 1.0;
-        sw += wj;
-        for (int c = 0; c < 3; ++c)
-        {
-          o.AxisOrigin[c] += wj * points[3 * j + c];
-        }
-      }
-      for (int c = 0; c < 3 && sw > 0.0; ++c)
-      {
-        o.AxisOrigin[c] /= sw;
-      }
+      // The quadric about the given axis too (FitGraph's frame through the
+      // points' weighted centroid); the better of the two kept.
+      std::copy(axis, axis + 3, o.GraphAxis);
       SurfaceFitResult about;
       std::string ignored;
       if ((robust ? FitSurfaceRobust(points, weights, n, o, about, ignored)

@@ -92,9 +92,10 @@ struct SurfaceFitOptions
   /// contains the axis however thin the mesh is, and a quadric or quartic
   /// has only the monomials in x (z = f(x): a cylinder over the axis).
   int ExtrusionAxis = -1;
-  /// FitSurfaceAutomatic with AutomaticAxis: a second frame for the quadric,
-  /// z along this direction (not normalised; zero: none), the better of the
-  /// two fits kept. The principal frame of a quarter of a bow shock (a bowl
+  /// With AutomaticAxis, a graph's (quadric's, quartic's) frame has its z
+  /// along this direction (not normalised; zero: none, the principal frame),
+  /// through the points' weighted centroid. FitSurfaceAutomatic fits the
+  /// quadric in both frames and keeps the better. The principal frame of a quarter of a bow shock (a bowl
   /// spanning 90 degrees about the flow) stands 40 degrees off the flow,
   /// and its paraboloid missed the vertex on the stagnation line by 1.4
   /// cells; about the flow (vtkQuadricFit: the Domain's mean velocity), as

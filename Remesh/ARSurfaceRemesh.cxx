@@ -329,6 +329,23 @@ bool CutInTwo(Mesh& mesh, double edgeLength, std::array<Mesh, 2>& pieces)
 
 namespace
 {
+/// The median length of the triangles' sides (each side once per
+/// triangle); corner(t, k) is triangle t's k-th corner.
+template <typename Corner>
+double MedianEdge(std::size_t nTriangles, Corner corner)
+{
+  std::vector<double> lengths;
+  lengths.reserve(3 * nTriangles);
+  for (std::size_t t = 0; t < nTriangles; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      lengths.push_back(std::sqrt(CGAL::to_double(CGAL::squared_distance(corner(t, k), corner(t, (k + 1) % 3)))));
+    }
+  }
+  return ar::Median(std::move(lengths));
+}
+
 /**
  * Cuts every triangle of the soup into n x n (n: the soup's median edge
  * over the target, rounded up from a quarter below; nothing under 1.5
@@ -343,17 +360,7 @@ namespace
  */
 int SubdivideToTarget(std::vector<Point>& pts, std::vector<std::array<std::size_t, 3>>& faces, double edgeLength)
 {
-  std::vector<double> lengths;
-  lengths.reserve(3 * faces.size());
-  for (const auto& f : faces)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      lengths.push_back(std::sqrt(CGAL::to_double(CGAL::squared_distance(pts[f[k]], pts[f[(k + 1) % 3]]))));
-    }
-  }
-  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
-  const double ratio = lengths[lengths.size() / 2] / edgeLength;
+  const double ratio = MedianEdge(faces.size(), [&](std::size_t t, int k) { return pts[faces[t][k]]; }) / edgeLength;
   if (!(ratio >= 1.5) || !std::isfinite(ratio))
   {
     return 1;
@@ -501,12 +508,10 @@ bool Remesh(std::vector<Point> pts, std::vector<std::array<std::size_t, 3>> face
 }
 }
 
-
 bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
   double edgeLength, std::vector<double>& outPoints, std::vector<std::int64_t>& outTriangles,
   std::string& error, int threads, int* pieces)
 {
-  namespace PMP = CGAL::Polygon_mesh_processing;
   outPoints.clear();
   outTriangles.clear();
   if (!(edgeLength > 0.0) || !std::isfinite(edgeLength))
@@ -560,20 +565,11 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
   }
   // The median edge: the mean would count the short edges where a border
   // edge was halved once more (under the target) as much as S's inside.
-  auto medianEdge = [](const std::vector<double>& points, const std::vector<std::int64_t>& triangles) {
-    std::vector<double> lengths;
-    lengths.reserve(triangles.size());
-    for (std::size_t t = 0; 3 * t < triangles.size(); ++t)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        const double* a = &points[3 * triangles[3 * t + k]];
-        const double* b = &points[3 * triangles[3 * t + (k + 1) % 3]];
-        lengths.push_back(
-          std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])));
-      }
-    }
-    return ar::Median(std::move(lengths));
+  auto medianEdge = [](const std::vector<double>& x, const std::vector<std::int64_t>& triangles) {
+    return MedianEdge(triangles.size() / 3, [&](std::size_t t, int k) {
+      const double* p = &x[3 * static_cast<std::size_t>(triangles[3 * t + static_cast<std::size_t>(k)])];
+      return Point(p[0], p[1], p[2]);
+    });
   };
   const double plain = medianEdge(outPoints, outTriangles);
   if (!(plain > OvershootAllowed * edgeLength))
@@ -581,12 +577,12 @@ bool RemeshSurfaceIsotropic(const std::vector<double>& points, const std::vector
     return true;
   }
   // The cut input's result where its median is nearer the target (both
-  // ways: a cut input 2.2 targets fine, cut in two on a bent sheet, can end
-  // further over it than CGAL alone).
+  // ways: from an input 2.2 targets long on a bent sheet, cut in two per
+  // side, it can end further over the target than CGAL alone).
   std::vector<double> cutPoints;
   std::vector<std::int64_t> cutTriangles;
   int cutPieces = 0;
-  if (Remesh(pts, faces, edgeLength, true, cutPoints, cutTriangles, error, threads, &cutPieces) &&
+  if (Remesh(std::move(pts), std::move(faces), edgeLength, true, cutPoints, cutTriangles, error, threads, &cutPieces) &&
     std::abs(std::log(medianEdge(cutPoints, cutTriangles) / edgeLength)) < std::abs(std::log(plain / edgeLength)))
   {
     outPoints.swap(cutPoints);

@@ -52,6 +52,17 @@ constexpr double SideGroupsAbove = 0.25;
 /// passes farther than this many arc radii from the point gets a point on
 /// its bisector (PlaceWedges).
 constexpr double FarChord = 1.2;
+/// A wedge's arc points stand at least this fraction of its fans' apices'
+/// distance from the point (PlaceWedges). Where a border edge is much longer
+/// than the stack, the apices stand half an edge along it, and an arc at the
+/// apices' offsets hugs the point: the seam tetrahedra of the first and last
+/// piece, (a_K, P_g, P_g+1, W_1), flattened (7.6 degrees on the 3-D bow
+/// shock). Smallest closure / TetGen angle on the validation cases' layered
+/// meshes and TestPrismLayers' tall stacks: 0 (the offsets alone) 7.6 / 10.1;
+/// 0.3 10.9 / 10.2; 0.4 11.1 / 10.4 but a strip case of TestPrismLayers
+/// fails; 0.5 9.6 / 7.5. Where the offsets are larger (stacks as tall as
+/// the edges) nothing changes.
+constexpr double ArcRadiusFloor = 0.3;
 
 Vec At(const double* x)
 {
@@ -1011,11 +1022,15 @@ bool LayerBuild::PlaceWedges()
         }
         w.Phi1[g] = phi1;
         w.Gamma[g] = angle(p2) - phi1;
-        // The arc's points no farther out than the apices' offsets: a piece's
-        // tetrahedra see a's layers from the chord W_j W_j+1, and seen from
-        // farther than the offset they flatten.
+        // The arc's points at the apices' offsets: a piece's tetrahedra see
+        // a's layers from the chord W_j W_j+1 and flatten seen from farther.
+        // But at least ArcRadiusFloor of the apices' distance: the seam
+        // tetrahedra of the first and last piece flatten when the arc hugs a
+        // while the fans' apices stand half a long edge away.
         const Vec r1 = project(p1 - X[a]), r2 = project(p2 - X[a]);
-        w.Rho[g] = std::min(0.5 * (r1.norm() + r2.norm()), 0.5 * (dEdge[e] + dEdge[static_cast<std::size_t>(f)]));
+        const double far = 0.5 * (r1.norm() + r2.norm());
+        w.Rho[g] =
+          std::min(far, std::max(0.5 * (dEdge[e] + dEdge[static_cast<std::size_t>(f)]), ArcRadiusFloor * far));
         w.Pieces = std::max(w.Pieces, static_cast<int>(std::ceil(w.Gamma[g] / (0.5 * Pi) - 1e-9)));
         // A narrow wedge whose chord passes far out (a border turning inward)
         // gets a point on its bisector.

@@ -79,15 +79,18 @@
  * Around a border point a, between the fans of its two border edges, remains
  * a wedge; per group it is filled with tetrahedra (a_k, a_k+1, W_j, W_j+1),
  * one per layer and piece of the wedge, W_0 and W_m being the two fans'
- * apices and W_1 .. W_m-1 points on an arc about a's column, no farther out
- * than the apices' offsets, where the wedge is wider than 90 degrees or its
+ * apices and W_1 .. W_m-1 points on an arc about a's column, as far out as
+ * the apices' offsets but at least 0.3 of the apices' distance from a's
+ * column (where a border edge is much longer than the stack, an arc at the
+ * offsets left the seam tetrahedra (a_K, P_g, P_g+1, W_1) flat: 7.6
+ * degrees on the 3-D bow shock), where the wedge is wider than 90 degrees or its
  * chord W_0 W_m passes farther out than 1.2 of that radius (a border
  * turning inward); between groups two seam tetrahedra per piece join the
  * rows of W. Such a tetrahedron sees a layer of thickness t from its chord
  * at distance d, at an angle of about t d / (d^2 + dz^2), dz the layer's
  * height over the chord: hence the apices' level and offset per group and
  * the arc close to a. With 5 layers per group the closure tetrahedra stay
- * above 10 degrees (10.5-12.8 on the validation cases, 5.5-7.7 with the
+ * above 10 degrees (10.9-14.1 on the validation cases, 5.5-7.7 with the
  * apices half an edge out at the group's middle; 10.9 on the bundled cone
  * with layers growing by 1.2, 7.5 at the middle); with N uniform layers in
  * a group the bound is about 1/N radians (8 layers: 6.6). The void then sees only

@@ -284,6 +284,39 @@ def shock_rows(before, after, templates, h):
     return rows
 
 
+def solver_failure(name, case, rc):
+    """The message for a step of the solve that failed: where (the last time
+    its log reached) and, for a floating-point exception, the likely cause:
+    a Courant number over 1 (the time step), else unlimited gradients.
+    rhoCentralFoam's Minmod/vanLeer limiters build their slope ratio from the
+    gradient; on tetrahedra at a strong shock the unlimited one overshoots
+    and a cell's T goes negative (the sphereMa3 validation case: a plain Gmsh
+    mesh 1.2x finer than the source, and the adapted mesh, fail so with Gauss
+    linear and run with cellLimited Gauss linear 1)."""
+    log = os.path.join(case, "log." + name)
+    text = open(log, errors="replace").read() if os.path.isfile(log) else ""
+    times = re.findall(r"^Time = (\S+)", text, re.M)
+    msg = "%s failed on %s (exit %d%s; see %s)" % (
+        name, case, rc, ", after t = %s" % times[-1] if times else "", log)
+    if "sigFpe::sigHandler" not in text:
+        return msg
+    msg += ": a floating-point exception"
+    courant = [float(c) for c in re.findall(r"Courant Numbers? = \S+ (\S+)", text)]
+    if courant and max(courant) > 1.0:
+        return msg + (". The Courant number reached %.3g (over 1: the time step is too large for this mesh; "
+                      "lower maxCo or deltaT in the config's controlDict)" % max(courant))
+    schemes_path = os.path.join(case, "system", "fvSchemes")
+    block = re.search(r"gradSchemes\s*\{([^}]*)\}", open(schemes_path).read()) \
+        if os.path.isfile(schemes_path) else None
+    grad = dict_entry(block.group(1), "default") if block else None
+    if grad is not None and "limited" not in grad.lower():
+        msg += (", the Courant number at most %.3g. The case's gradients are unlimited (gradSchemes default %s): "
+                "on tetrahedra at a strong shock the limiters' slope ratio then overshoots until T < 0; "
+                "'cellLimited Gauss linear 1' is the robust choice (set it in the source case's system/fvSchemes)"
+                % (max(courant) if courant else float("nan"), grad))
+    return msg
+
+
 def gas_of(case):
     """(gamma, R) of a case's constant/thermophysicalProperties (hConst,
     perfectGas), or None."""
@@ -679,7 +712,7 @@ def main():
                 if rc != 0:
                     report.append("")
                     write_report()
-                    fail("%s failed on %s (exit %d; see %s)" % (name, case, rc, os.path.join(case, "log." + name)))
+                    fail(solver_failure(name, case, rc))
             report += ["", "solved in %.1f s in all, latest time %s" % (total, latest_time(case))]
             solved = read_solution(case, latest_time(case))
             report += shock_rows(None, measure_shock(solved, stations), templates, h_in) + [""]

@@ -114,7 +114,7 @@ The initial field is the free stream everywhere (impulsive start).  endTime:
   cone25Ma2      2.0: slow, the waves running upstream in the shock layer
                  (u - c ~ 0.45 at Mach 1.4 on the cone) cross it in ~2.2; the
                  rms change falls by ~0.7 per 0.1 to 0.033% at t = 2.
-  sphereMa3      3.0 (18 R/U; steady from about 2.5: rms dp 0.0036 % between
+  sphereMa3      3.0 (18 R/U; steady from about 2.5: rms dp 0.0045 % between
                  the last writes, the relief of the third dimension flushes
                  the stagnation region faster than the cylinder's)
   cylinderMa3    9.0 (54 R/U): the impulsive start leaves a pocket of hot gas
@@ -147,9 +147,12 @@ of the planes or meridians, see the physics check):
                                                                          (pitot 12.061)
   wedge10Ma3o1   7000 hexahedra          28 s    7311  0         0       27.383   27.859
   cone15Ma3o1    20646 tetrahedra        66 s    4791  0.0078%   0.037%  25.259   25.932
-  sphereMa3      17954 tetrahedra       142 s    8900  0.0036%   0.20%   standoff 0.1105 (0.221 R;
-                                                                         Billig 0.1025), p0'/p1 12.118
-                                                                         (pitot 12.061)
+  sphereMa3      17954 tetrahedra       289 s    8982  0.0045%   0.29%   standoff 0.1111 (0.222 R;
+                                                                         Billig 0.1025), p0'/p1 11.887
+                                                                         (pitot 12.061); limited
+                                                                         gradients (Gauss linear:
+                                                                         142 s, 8900 steps, 0.1105,
+                                                                         12.118)
 
 Field data of the .vtu (doubles):
   all       Gamma, GasConstant (from constant/thermophysicalProperties),

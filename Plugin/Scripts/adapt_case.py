@@ -710,9 +710,10 @@ def main():
                 total += secs
                 report.append("%s: exit %d in %.1f s (log `cycle%d/log.%s`)" % (name, rc, secs, k, name))
                 if rc != 0:
-                    report.append("")
+                    why = solver_failure(name, case, rc)
+                    report += ["", "**failed**: " + why, ""]
                     write_report()
-                    fail(solver_failure(name, case, rc))
+                    fail(why)
             report += ["", "solved in %.1f s in all, latest time %s" % (total, latest_time(case))]
             solved = read_solution(case, latest_time(case))
             report += shock_rows(None, measure_shock(solved, stations), templates, h_in) + [""]

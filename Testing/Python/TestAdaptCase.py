@@ -233,6 +233,7 @@ rc, text = adapt_case(source, blown, "--solve", "--config", config)
 said = re.search(r"rhoCentralFoam failed on .*after t = ([0-9.e+-]+).*a floating-point exception\. "
                  r"The Courant number reached ([0-9.]+)", text)
 check(rc == 1 and said and 0 < float(said.group(1)) < 0.05 and float(said.group(2)) > 1
+      and os.path.isfile(os.path.join(blown, "report.md"))
       and "**failed**: rhoCentralFoam failed" in open(os.path.join(blown, "report.md")).read()
       and os.path.isdir(os.path.join(blown, "cycle1", "constant", "polyMesh")),
       "a solve that blows up: exit %d, the exception, its time and the Courant number named (%s); case and report kept"

@@ -310,10 +310,11 @@ def solver_failure(name, case, rc):
         if os.path.isfile(schemes_path) else None
     grad = dict_entry(block.group(1), "default") if block else None
     if grad is not None and "limited" not in grad.lower():
-        msg += (", the Courant number at most %.3g. The case's gradients are unlimited (gradSchemes default %s): "
-                "on tetrahedra at a strong shock the limiters' slope ratio then overshoots until T < 0; "
-                "'cellLimited Gauss linear 1' is the robust choice (set it in the source case's system/fvSchemes)"
-                % (max(courant) if courant else float("nan"), grad))
+        if courant:
+            msg += ", the Courant number at most %.3g" % max(courant)
+        msg += (". The case's gradients are unlimited (gradSchemes default %s): on tetrahedra at a strong shock "
+                "the limiters' slope ratio then overshoots until T < 0; 'cellLimited Gauss linear 1' is the robust "
+                "choice (set it in the source case's system/fvSchemes)" % grad)
     return msg
 
 

@@ -421,11 +421,11 @@ if not two_d and case not in NO_PRISM_CASES:
              f(layered, "LayerClosureTetrahedra") if built else 0))
     if built:
         closure = closure_angle(layered)
-        floor = CLOSURE_FLOOR
-        check(f(layered, "MinDihedralAngleNew") >= 10.0 and closure >= floor,
+        check(f(layered, "MinDihedralAngleNew") >= 10.0 and closure >= CLOSURE_FLOOR,
               "%s, prism layers: the smallest angle of TetGen's tetrahedra is %.2f deg (at least 10), of the "
               "closure's %.2f (at least %.1f; the layer cells' %.2f)"
-              % (case, f(layered, "MinDihedralAngleNew"), closure, floor, f(layered, "MinDihedralAngleLayerCells")))
+              % (case, f(layered, "MinDihedralAngleNew"), closure, CLOSURE_FLOOR,
+                 f(layered, "MinDihedralAngleLayerCells")))
         artest.check_valid_mesh(case + ", prism layers", src, layered)
     if case in THIN_STACKS:
         total, layers = THIN_STACKS[case]

@@ -277,12 +277,13 @@ CASES = {
     # 0.15 deep. In the CTest matrix since each side of the prism stack has
     # its own closure apices (closure tetrahedra 5.4-5.5 degrees, 4.7 before,
     # the floor 5; the new cells at the shock 0.31 of the input's size since
-    # the refill's free points off S, 0.345 before; its plane +0.53 off
-    # theory where its own shock is +0.42, TestValidationCase's
-    # CASE_TOLERANCE; see the README's validation section).
-    # Steady at endTime 0.3 (rms dp 0.011 % between the last writes; 100 s).
+    # the refill's free points off S, 0.345 before). Meshed 1.25x finer
+    # since the seventh session (33,693 tetrahedra, hmin 0.008 -> 0.0064,
+    # hmax 0.02 -> 0.016): on the first mesh (18,061) its shock was +0.51 off
+    # theory and the plane +0.53, over the 0.5; now +0.36 and +0.41.
+    # Steady at endTime 0.3 (rms dp 0.0094 % between the last writes; 245 s).
     "wedge15Ma3tet": dict(_TET_WEDGE, mach=3.0, angle=15.0, height=0.22, span=0.15,
-                          hmin=0.008, hmax=0.02, dgrow=0.1, end=0.3, write=0.05),
+                          hmin=0.0064, hmax=0.016, dgrow=0.1, end=0.3, write=0.05),
     # Added on 7 December after the Rankine-Hugoniot centring, to try it on
     # cones nobody had looked at: Mach 3.5 at 12 degrees, Mach 2.5 at 30.
     "cone12Ma3p5": dict(_TET_CONE, mach=3.5, angle=12.0, radius=0.5,

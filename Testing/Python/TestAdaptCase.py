@@ -63,12 +63,6 @@ def adapt_case(*args):
     return artest.run(cmd)
 
 
-def patches(case):
-    """{name: type} of constant/polyMesh/boundary."""
-    text = open(os.path.join(case, "constant", "polyMesh", "boundary")).read()
-    return {m.group(1): m.group(2) for m in re.finditer(r"^\s*(\w+)\s*\{[^}]*?\btype\s+(\w+);", text, re.M | re.S)}
-
-
 def check_mesh(case):
     out = subprocess.run(["bash", "-c", "source %s >/dev/null 2>&1; checkMesh -case %s" % (foamcase.bashrc("checkMesh"), case)],
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=artest.child_environment())
@@ -115,8 +109,8 @@ rc, text = adapt_case(source, t1)
 wall1 = time.time() - started
 case1 = os.path.join(t1, "cycle1")
 check(rc == 0 and check_mesh(case1), "write only: exit %d, checkMesh says 'Mesh OK.'" % rc)
-check(patches(case1) == patches(source) and len(patches(source)) == 6,
-      "write only: the patches' names and types are the source's (%s)" % patches(case1))
+check(foamcase.patch_types(case1) == foamcase.patch_types(source) and len(foamcase.patch_types(source)) == 6,
+      "write only: the patches' names and types are the source's (%s)" % foamcase.patch_types(case1))
 check(all(os.path.isfile(os.path.join(case1, "0", n)) for n in ("p", "U", "T")), "write only: p, U, T at time 0")
 cd0 = open(os.path.join(source, "system", "controlDict")).read()
 cd1 = open(os.path.join(case1, "system", "controlDict")).read()

@@ -25,13 +25,11 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import sys
 
 import numpy as np
 from paraview.simple import *
 from paraview import servermanager
-from vtkmodules.numpy_interface import dataset_adapter as dsa
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
@@ -41,6 +39,8 @@ import foamcase
 
 sys.path.insert(0, os.environ["AR_DATA_DIR"])
 import theta_beta_mach  # noqa: E402
+from convert_cone20Ma2p5 import probe_p  # noqa: E402
+from make_validation_case import last_crossing  # noqa: E402
 
 GAMMA = 1.4
 MACH = 2.9
@@ -66,7 +66,7 @@ if not foamcase.solved_tutorial(bashrc, foamcase.tutorial("compressible/rhoCentr
     artest.finish()
 
 script = os.path.join(os.path.dirname(os.environ["AR_DATA_DIR"]), "Plugin", "Scripts", "adapt_case.py")
-rc, out = artest.run([artest.require_program("pvbatch", "paraview"), script, source, target,
+rc, _ = artest.run([artest.require_program("pvbatch", "paraview"), script, source, target,
                       "--plugin", os.environ["AR_PLUGIN"]])
 report = open(os.path.join(target, "report.md")).read() if os.path.exists(os.path.join(target, "report.md")) else ""
 m = re.search(r"(\d+) surface\(s\) \(([^)]*)\)", report)
@@ -75,7 +75,7 @@ check(rc == 0 and m is not None and m.group(1) == "2" and m.group(2) == "Plane, 
 if rc != 0 or m is None:
     artest.finish()
 
-# each fitted surface as a line in the x-y plane: its points' principal direction
+# each fitted surface as a line in the x-y plane: the plane through its points
 r = vtkXMLPolyDataReader()
 r.SetFileName(os.path.join(target, "cycle1_surfaces.vtp"))
 r.Update()
@@ -88,33 +88,32 @@ for sid in np.unique(ids):
     for c in np.where(ids == sid)[0]:
         cp = surf.GetCell(int(c)).GetPointIds()
         used.update(cp.GetId(k) for k in range(cp.GetNumberOfIds()))
-    Q = P[sorted(used)]
-    centre = Q.mean(axis=0)
-    d = np.linalg.svd(Q - centre)[2][0]
-    lines.append(dict(mean_x=centre[0], angle=math.degrees(math.atan(abs(d[1] / d[0]))),
-                      x0=centre[0] - centre[1] * d[0] / d[1]))
+    n, centre = artest.fit_plane(P[sorted(used)])
+    # the line's angle to +x is the normal's to +y; it meets y = 0 where
+    # n . (x - centre) = 0
+    lines.append(dict(mean_x=centre[0], angle=math.degrees(math.atan(abs(n[0] / n[1]))),
+                      x0=centre[0] + centre[1] * n[1] / n[0]))
 lines.sort(key=lambda s: s["mean_x"])
 incident, downstream = lines[0], lines[-1]
 
 # the solution's own incident shock: p's half-jump on horizontal lines
-# between the inlet and the reflected shock
+# between the inlet and the reflected shock (last_crossing, as the
+# validation cases measure theirs)
 open(os.path.join(source, "read.foam"), "w").close()
 reader = OpenFOAMReader(FileName=os.path.join(source, "read.foam"))
 reader.MeshRegions = ["internalMesh"]
 reader.UpdatePipeline(10.0)
+grid = servermanager.Fetch(MergeBlocks(Input=reader))
 heights, crossings = np.linspace(0.35, 0.85, 11), []
 for y in heights:
-    line = PlotOverLine(Input=reader)
     x_end = x_reflection + y / math.tan(math.radians(reflected)) - 6 * CELL
-    line.Point1, line.Point2, line.Resolution = [0.0, y, 0.05], [x_end, y, 0.05], 2000
-    d = dsa.WrapDataObject(servermanager.Fetch(line))
-    ok = np.asarray(d.PointData["vtkValidPointMask"]) == 1
-    x, p = np.asarray(d.Points)[:, 0][ok], np.asarray(d.PointData["p"])[ok]
-    half = 0.5 * (p[:20].mean() + p[-20:].mean())
-    k = int(np.argmax(p >= half))
-    crossings.append(x[k - 1] + (half - p[k - 1]) / (p[k] - p[k - 1]) * (x[k] - x[k - 1]))
-    Delete(line)
-own = math.degrees(math.atan(1.0 / abs(np.polyfit(heights, crossings, 1)[0])))
+    origin = np.array([0.0, y, 0.05])
+    ends = origin + np.r_[np.linspace(0.0, 0.01 * x_end, 20), np.linspace(0.99 * x_end, x_end, 20)][:, None] * [1, 0, 0]
+    p_ends, inside = probe_p(grid, ends)
+    half = 0.5 * (p_ends[:20][inside[:20]].mean() + p_ends[20:][inside[20:]].mean())
+    crossings.append(last_crossing(grid, origin, np.array([1.0, 0.0, 0.0]), 0.0, x_end, half))
+own = (math.degrees(math.atan(1.0 / abs(np.polyfit(heights, crossings, 1)[0]))) if None not in crossings
+       else float("nan"))  # a line without a crossing fails the check below
 
 check(abs(downstream["angle"] - reflected) <= TOLERANCE,
       "the reflected shock's plane at %.2f deg to the wall, theory %.2f (%+.2f; at most %.1f)"
@@ -132,11 +131,8 @@ check(ratio is not None and float(ratio.group(1)) <= 1.0 / 3.0,
 
 # the written case
 case = os.path.join(target, "cycle1")
-mesh = subprocess.run(["bash", "-c", "source '%s' >/dev/null 2>&1; checkMesh -case '%s'" % (bashrc, case)],
-                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=artest.child_environment())
-check("Mesh OK." in mesh.stdout, "checkMesh on the adapted case: Mesh OK")
-boundary = open(os.path.join(case, "constant", "polyMesh", "boundary")).read()
-types = {k: v for k, v in re.findall(r"^\s*(\w+)\s*\{[^}]*?\btype\s+(\w+);", boundary, re.M | re.S)}
+check("Mesh OK." in foamcase.run(bashrc, case, "checkMesh")[1], "checkMesh on the adapted case: Mesh OK")
+types = foamcase.patch_types(case)
 want = {"top": "wall", "inlet": "patch", "outlet": "patch", "bottom": "symmetryPlane", "frontAndBack": "empty"}
 check(types == want, "the tutorial's patches and types are kept: %s" % types)
 check(all(os.path.exists(os.path.join(case, "0", f)) for f in ("p", "U", "T")), "p, U and T are at time 0")

@@ -108,6 +108,12 @@ def boundary_patches(text):
             for m in re.finditer(r"(\w+)\s*\{[^{}]*?nFaces\s+(\d+);[^{}]*\}", text)}
 
 
+def patch_types(case):
+    """{name: type} of the case's constant/polyMesh/boundary."""
+    text = open(os.path.join(case, "constant", "polyMesh", "boundary")).read()
+    return {m.group(1): m.group(2) for m in re.finditer(r"^\s*(\w+)\s*\{[^}]*?\btype\s+(\w+);", text, re.M | re.S)}
+
+
 # ---------------------------------------------------------------- reading a written case (numpy)
 def _strip(text):
     text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
